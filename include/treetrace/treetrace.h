@@ -1,0 +1,314 @@
+/*
+ * treetrace: ray tracing triangle scenes through R-trees (Feldmann 2015) and
+ * kd-trees with sparse boxes (Havran & Bittner 2007).
+ *
+ * The API follows the shape of Embree's rtcore: opaque handles with
+ * create/destroy pairs, an explicit context (threads, allocator, error
+ * callback), status codes on every call and a last-error message on the
+ * context naming the cause. The library never prints, exits or aborts.
+ *
+ * Typical use:
+ *   tt_context *ctx; tt_context_create(NULL, &ctx);
+ *   tt_scene *scene; tt_scene_load(ctx, "bunny.ply", &scene);
+ *   tt_build_options opt; tt_build_options_default(&opt); opt.accel = "rtree";
+ *   tt_accel *acc; tt_accel_build(ctx, scene, &opt, &acc);
+ *   tt_ray ray = {...}; tt_hit hit; tt_intersect1(acc, &ray, &hit);
+ *   tt_accel_destroy(acc); tt_scene_destroy(scene); tt_context_destroy(ctx);
+ */
+#ifndef TREETRACE_H
+#define TREETRACE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define TT_VERSION_MAJOR 0
+#define TT_VERSION_MINOR 1
+#define TT_VERSION_PATCH 0
+#define TT_VERSION_STRING "0.1.0"
+
+/* ------------------------------------------------------------------ status */
+
+typedef enum tt_status {
+    TT_OK = 0,
+    TT_ERR_INVALID_ARGUMENT, /* a caller passed a bad value                  */
+    TT_ERR_OUT_OF_MEMORY,    /* an allocation failed                         */
+    TT_ERR_IO,               /* a file could not be opened or read           */
+    TT_ERR_PARSE,            /* a file's content is malformed                */
+    TT_ERR_UNSUPPORTED,      /* not available in this build (Embree, CUDA)   */
+    TT_ERR_NO_DEVICE,        /* no usable GPU at run time                    */
+    TT_ERR_INVARIANT,        /* tt_accel_check found a broken invariant      */
+    TT_ERR_INTERNAL
+} tt_status;
+
+/* A short constant description of a status ("out of memory"). */
+const char *tt_strerror(tt_status status);
+const char *tt_version(void);
+
+/* ----------------------------------------------------------------- context */
+
+typedef struct tt_context tt_context;
+
+/* Allocator hooks; all three must be set, or all NULL for the C library's. */
+typedef struct tt_allocator {
+    void *(*alloc)(void *user, size_t size);
+    void *(*realloc)(void *user, void *ptr, size_t size);
+    void (*free)(void *user, void *ptr);
+    void *user;
+} tt_allocator;
+
+/* Called once for every error the library reports, with the full message. */
+typedef void (*tt_error_fn)(void *user, tt_status status, const char *message);
+
+typedef struct tt_context_options {
+    int threads;            /* 0: OpenMP's default                           */
+    tt_allocator allocator; /* all NULL: malloc/realloc/free                 */
+    tt_error_fn on_error;   /* may be NULL                                   */
+    void *on_error_user;
+} tt_context_options;
+
+void tt_context_options_default(tt_context_options *options);
+/* options may be NULL for the defaults. */
+tt_status tt_context_create(const tt_context_options *options, tt_context **out);
+void tt_context_destroy(tt_context *ctx);
+/* The message of the last error reported on this context ("" if none). */
+const char *tt_context_last_error(const tt_context *ctx);
+int tt_context_threads(const tt_context *ctx);
+
+/* ------------------------------------------------------------------- scene */
+
+typedef struct tt_scene tt_scene;
+
+/* Loads an OBJ or PLY file (by content: a PLY starts with "ply\n"). Errors
+ * name the file and the line (or byte offset) and what is wrong. */
+tt_status tt_scene_load(tt_context *ctx, const char *path, tt_scene **out);
+/* The same from memory; `name` is used in error messages. `format` is "obj",
+ * "ply" or NULL to detect. */
+tt_status tt_scene_load_memory(tt_context *ctx, const char *name, const char *format,
+                               const void *data, size_t size, tt_scene **out);
+/* A scene from arrays: vertices are x,y,z triples, indices are triples. */
+tt_status tt_scene_create(tt_context *ctx, const float *vertices, size_t vertex_count,
+                          const uint32_t *indices, size_t triangle_count, tt_scene **out);
+void tt_scene_destroy(tt_scene *scene);
+size_t tt_scene_triangle_count(const tt_scene *scene);
+size_t tt_scene_vertex_count(const tt_scene *scene);
+void tt_scene_bounds(const tt_scene *scene, float min[3], float max[3]);
+/* Triangle i's three vertices (9 floats). */
+tt_status tt_scene_triangle(const tt_scene *scene, size_t i, float out[9]);
+
+/* --------------------------------------------------------------- rays, hits */
+
+#define TT_INVALID_ID 0xFFFFFFFFu
+
+/* Rays cover t in [tmin, tmax). dir need not be normalized. */
+typedef struct tt_ray {
+    float org[3];
+    float tmin;
+    float dir[3];
+    float tmax;
+} tt_ray;
+
+typedef struct tt_hit {
+    float t;       /* +inf on a miss                                         */
+    float u, v;    /* barycentrics of vertices 1 and 2                        */
+    uint32_t prim; /* triangle id in load order; TT_INVALID_ID on a miss      */
+} tt_hit;
+
+/* Per-ray traversal statistics, summed over the rays traced with them. */
+typedef struct tt_ray_stats {
+    uint64_t rays;
+    uint64_t nodes;     /* nodes visited (interior + leaves)                  */
+    uint64_t interior;  /* interior nodes visited (N_I)                       */
+    uint64_t leaves;    /* leaves visited (N_L)                               */
+    uint64_t boxes;     /* ray-box tests                                      */
+    uint64_t triangles; /* ray-triangle tests (r_ITM)                         */
+} tt_ray_stats;
+
+/* --------------------------------------------------- acceleration structures */
+
+typedef struct tt_accel tt_accel;
+
+typedef enum tt_rtree_strategy {
+    TT_RTREE_MIN_VOLUME = 0,
+    TT_RTREE_MIN_SURFACE,
+    TT_RTREE_MIN_OVERLAP,
+    TT_RTREE_RSTAR,
+    TT_RTREE_RSTAR_SURFACE
+} tt_rtree_strategy;
+
+typedef enum tt_rtree_split { TT_RTREE_SPLIT_RSTAR = 0, TT_RTREE_SPLIT_QUADRATIC } tt_rtree_split;
+
+typedef enum tt_rtree_traversal {
+    TT_RTREE_AUTO = 0, /* ordered when the eye is outside the root box        */
+    TT_RTREE_STACKLESS,
+    TT_RTREE_ORDERED,
+    TT_RTREE_STACK
+} tt_rtree_traversal;
+
+typedef struct tt_rtree_options {
+    tt_rtree_strategy strategy; /* default TT_RTREE_RSTAR_SURFACE              */
+    int m, M;                   /* default 2, 4; 2 <= m <= M/2, M <= 16        */
+    int reinsert;               /* forced reinsert, default 1                  */
+    float reinsert_fraction;    /* p = fraction * (M+1), >= 1; default 0.3     */
+    int reinsert_far;           /* 1: far reinsert (default), 0: close         */
+    tt_rtree_split split;
+    tt_rtree_traversal traversal;
+} tt_rtree_options;
+
+typedef enum tt_kd_builder { TT_KD_NLOGN = 0, TT_KD_NLOG2N } tt_kd_builder;
+
+typedef enum tt_kd_traversal {
+    TT_KD_HTR = 0, /* stack-based hierarchical (Algorithm 1)                  */
+    TT_KD_BTR,     /* bottom-up with a stack (Algorithm 2)                    */
+    TT_KD_SLTR,    /* stackless bottom-up (Algorithm 3)                       */
+    TT_KD_SEQ      /* Kaplan's sequential point location                      */
+} tt_kd_traversal;
+
+typedef struct tt_kdtree_options {
+    tt_kd_builder builder;  /* default TT_KD_NLOGN                             */
+    int dmin;               /* sparse boxes every dmin levels; <0: no boxes    */
+    float cost_traversal;   /* SAH C_T, default 1                              */
+    float cost_intersect;   /* SAH C_I, default 1.5                            */
+    float empty_bonus;      /* default 0.8 (cost factor 1 - bonus... see docs) */
+    int max_depth;          /* 0: automatic (8 + 1.3 log2 N)                   */
+    tt_kd_traversal traversal;
+    int shadow_caster_hint; /* shadow rays start at the last caster's node     */
+} tt_kdtree_options;
+
+typedef struct tt_build_options {
+    const char *accel; /* "bruteforce", "rtree", "kdtree", "embree"           */
+    tt_rtree_options rtree;
+    tt_kdtree_options kdtree;
+} tt_build_options;
+
+void tt_build_options_default(tt_build_options *options);
+
+/* Names of the structures this build offers, NULL-terminated. */
+const char *const *tt_accel_names(void);
+
+tt_status tt_accel_build(tt_context *ctx, const tt_scene *scene,
+                         const tt_build_options *options, tt_accel **out);
+void tt_accel_destroy(tt_accel *accel);
+const char *tt_accel_name(const tt_accel *accel);
+double tt_accel_build_seconds(const tt_accel *accel);
+size_t tt_accel_memory_bytes(const tt_accel *accel);
+/* Verifies every invariant of the built structure; TT_ERR_INVARIANT with the
+ * context's last error naming the first broken one. */
+tt_status tt_accel_check(const tt_accel *accel);
+
+/* The structure's statistics as key/value pairs (height, nodes, SAH cost ...). */
+typedef void (*tt_stat_fn)(void *user, const char *key, double value);
+tt_status tt_accel_statistics(const tt_accel *accel, tt_stat_fn fn, void *user);
+
+/* Closest hit on [tmin, tmax). Rejects non-finite origins/directions and a
+ * zero direction with TT_ERR_INVALID_ARGUMENT. */
+tt_status tt_intersect1(const tt_accel *accel, const tt_ray *ray, tt_hit *hit);
+/* Any hit on [tmin, tmax): *occluded = 1 or 0. */
+tt_status tt_occluded1(const tt_accel *accel, const tt_ray *ray, int *occluded);
+
+/* Extended calls: a start hint (kd-tree: the augmented node to start from,
+ * TT_INVALID_ID for the root), the node where the ray ended on return, and
+ * statistics accumulated into *stats when stats is not NULL. */
+typedef struct tt_trace_args {
+    uint32_t start_hint;
+    uint32_t end_hint;
+    tt_ray_stats *stats;
+} tt_trace_args;
+
+tt_status tt_intersect1_ex(const tt_accel *accel, const tt_ray *ray, tt_hit *hit,
+                           tt_trace_args *args);
+tt_status tt_occluded1_ex(const tt_accel *accel, const tt_ray *ray, int *occluded,
+                          tt_trace_args *args);
+/* The start hint for rays from one point (e.g. all primary rays from the eye). */
+uint32_t tt_accel_locate(const tt_accel *accel, const float point[3]);
+
+/* ------------------------------------------------------------ camera, views */
+
+typedef struct tt_camera {
+    float eye[3], look[3], up[3];
+    float fov_deg;  /* vertical field of view                                 */
+    float light[3]; /* point light                                            */
+    int has_light;
+} tt_camera;
+
+/* Primary ray of pixel (x, y), y = 0 the top row, per the conventions. */
+tt_status tt_camera_ray(const tt_camera *camera, uint32_t width, uint32_t height,
+                        uint32_t x, uint32_t y, tt_ray *out);
+/* A camera framing the scene's bounding box, light above-left of the eye. */
+void tt_camera_frame_scene(const tt_scene *scene, tt_camera *out);
+/* Shadow ray from a primary hit, per the conventions. Returns 0 and leaves
+ * *out untouched when there is no light. */
+int tt_shadow_ray(const tt_scene *scene, const tt_camera *camera, const tt_ray *primary,
+                  const tt_hit *hit, tt_ray *out);
+
+/* views.tsv: "scene<TAB>view<TAB>eye<TAB>look<TAB>up<TAB>fov_deg<TAB>light".
+ * Finds "SCENE:VIEW"; errors name the file and line. */
+tt_status tt_view_find(tt_context *ctx, const char *views_path, const char *name,
+                       tt_camera *out);
+tt_status tt_view_find_memory(tt_context *ctx, const char *views_name, const char *data,
+                              size_t size, const char *name, tt_camera *out);
+
+/* --------------------------------------------------------------- rendering */
+
+typedef struct tt_render_options {
+    uint32_t width, height; /* default 1024 x 1024                            */
+    int shadows;            /* trace shadow rays, default 1                   */
+    int repeat;             /* trace K times, report min and median; default 1 */
+    int stats;              /* gather per-ray statistics (counting variant)   */
+    int keep_hits;          /* keep the hit buffer (tt_render_hits)           */
+    int keep_image;         /* keep the shaded RGB image                      */
+    int keep_pixel_stats;   /* keep per-pixel counts for heatmaps             */
+} tt_render_options;
+
+void tt_render_options_default(tt_render_options *options);
+
+typedef struct tt_render_result tt_render_result;
+
+typedef struct tt_render_summary {
+    uint32_t width, height;
+    uint64_t primary_rays, primary_hits, shadow_rays, shadow_occluded;
+    double trace_s;        /* min over repeats, primary + shadow              */
+    double trace_median_s;
+    double primary_s, shadow_s; /* min over repeats                            */
+    double mrays_per_s, primary_mrays_per_s, shadow_mrays_per_s;
+    int has_stats;
+    tt_ray_stats primary_stats, shadow_stats; /* from one (counting) pass      */
+} tt_render_summary;
+
+tt_status tt_render(tt_context *ctx, const tt_scene *scene, const tt_accel *accel,
+                    const tt_camera *camera, const tt_render_options *options,
+                    tt_render_result **out);
+void tt_render_result_destroy(tt_render_result *result);
+const tt_render_summary *tt_render_get_summary(const tt_render_result *result);
+/* 8-bit RGB, row-major from the top-left; NULL unless keep_image. */
+const uint8_t *tt_render_image(const tt_render_result *result);
+/* The hit buffer per the conventions (12 bytes a pixel); NULL unless keep_hits. */
+const uint8_t *tt_render_hits(const tt_render_result *result, size_t *size);
+
+typedef enum tt_heat_metric {
+    TT_HEAT_NODES = 0,
+    TT_HEAT_INTERIOR,
+    TT_HEAT_LEAVES,
+    TT_HEAT_TRIANGLES,
+    TT_HEAT_BOXES
+} tt_heat_metric;
+
+/* Per-pixel counts of the primary ray (needs keep_pixel_stats); NULL if absent. */
+const uint32_t *tt_render_pixel_stats(const tt_render_result *result, tt_heat_metric metric);
+
+/* ---------------------------------------------------------------- file out */
+
+tt_status tt_write_png(tt_context *ctx, const char *path, const uint8_t *rgb,
+                       uint32_t width, uint32_t height);
+tt_status tt_write_file(tt_context *ctx, const char *path, const void *data, size_t size);
+/* False-colour heatmap (0 dark blue .. >= 255 dark red) with a colour bar. */
+tt_status tt_write_heatmap_png(tt_context *ctx, const char *path, const uint32_t *counts,
+                               uint32_t width, uint32_t height);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

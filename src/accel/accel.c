@@ -1,0 +1,170 @@
+/* The registry of structures and the public calls that dispatch to them. */
+#include "accel/accel.h"
+
+#include <math.h>
+#include <string.h>
+
+static const tt_accel_vtable *const registry[] = {
+    &tt_bruteforce_vtable,
+#ifdef TT_HAVE_EMBREE
+    &tt_embree_vtable,
+#endif
+};
+
+#define REGISTRY_SIZE (sizeof registry / sizeof registry[0])
+
+const char *const *tt_accel_names(void)
+{
+    static const char *names[REGISTRY_SIZE + 1];
+    for (size_t i = 0; i < REGISTRY_SIZE; i++) names[i] = registry[i]->name;
+    names[REGISTRY_SIZE] = NULL;
+    return names;
+}
+
+const tt_accel_vtable *tt_accel_find(const char *name)
+{
+    if (!name) return NULL;
+    for (size_t i = 0; i < REGISTRY_SIZE; i++)
+        if (strcmp(registry[i]->name, name) == 0) return registry[i];
+    return NULL;
+}
+
+void tt_build_options_default(tt_build_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->accel = "rtree";
+    o->rtree.strategy = TT_RTREE_RSTAR_SURFACE;
+    o->rtree.m = 2;
+    o->rtree.M = 4;
+    o->rtree.reinsert = 1;
+    o->rtree.reinsert_fraction = 0.3f;
+    o->rtree.reinsert_far = 1;
+    o->rtree.split = TT_RTREE_SPLIT_RSTAR;
+    o->rtree.traversal = TT_RTREE_AUTO;
+    o->kdtree.builder = TT_KD_NLOGN;
+    o->kdtree.dmin = 4;
+    o->kdtree.cost_traversal = 1.0f;
+    o->kdtree.cost_intersect = 1.5f;
+    o->kdtree.empty_bonus = 0.8f;
+    o->kdtree.max_depth = 0;
+    o->kdtree.traversal = TT_KD_HTR;
+    o->kdtree.shadow_caster_hint = 0;
+}
+
+tt_status tt_accel_build(tt_context *ctx, const tt_scene *scene, const tt_build_options *options,
+                         tt_accel **out)
+{
+    if (!out) return TT_ERR_INVALID_ARGUMENT;
+    *out = NULL;
+    if (!ctx) return TT_ERR_INVALID_ARGUMENT;
+    if (!scene) return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "tt_accel_build: no scene");
+    tt_build_options def;
+    if (!options) {
+        tt_build_options_default(&def);
+        options = &def;
+    }
+    const tt_accel_vtable *vt = tt_accel_find(options->accel);
+    if (!vt) {
+        if (options->accel && strcmp(options->accel, "embree") == 0)
+            return tt_error(ctx, TT_ERR_UNSUPPORTED,
+                            "accel 'embree': this build has no Embree (install libembree-dev "
+                            "and rebuild)");
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "unknown accel '%s'",
+                        options->accel ? options->accel : "(null)");
+    }
+    tt_accel *a = tt_calloc(ctx, 1, sizeof *a);
+    if (!a) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "out of memory");
+    a->vt = vt;
+    a->ctx = ctx;
+    a->scene = scene;
+    a->options = *options;
+    a->options.accel = vt->name; /* the caller's string need not outlive us */
+    double t0 = tt_now();
+    tt_status st = vt->build(a);
+    a->build_s = tt_now() - t0;
+    if (st != TT_OK) {
+        if (a->impl) vt->destroy(a);
+        tt_free(ctx, a);
+        return st;
+    }
+    *out = a;
+    return TT_OK;
+}
+
+void tt_accel_destroy(tt_accel *accel)
+{
+    if (!accel) return;
+    accel->vt->destroy(accel);
+    tt_free(accel->ctx, accel);
+}
+
+const char *tt_accel_name(const tt_accel *accel) { return accel ? accel->vt->name : ""; }
+double tt_accel_build_seconds(const tt_accel *accel) { return accel ? accel->build_s : 0.0; }
+size_t tt_accel_memory_bytes(const tt_accel *accel) { return accel ? accel->vt->memory(accel) : 0; }
+
+tt_status tt_accel_check(const tt_accel *accel)
+{
+    if (!accel) return TT_ERR_INVALID_ARGUMENT;
+    return accel->vt->check(accel);
+}
+
+tt_status tt_accel_statistics(const tt_accel *accel, tt_stat_fn fn, void *user)
+{
+    if (!accel || !fn) return TT_ERR_INVALID_ARGUMENT;
+    accel->vt->statistics(accel, fn, user);
+    return TT_OK;
+}
+
+uint32_t tt_accel_locate(const tt_accel *accel, const float point[3])
+{
+    if (!accel || !point || !accel->vt->locate) return TT_INVALID_ID;
+    return accel->vt->locate(accel, point);
+}
+
+static tt_status prepare(const tt_accel *accel, const tt_ray *ray, tt_wray *w)
+{
+    for (int i = 0; i < 3; i++)
+        if (!isfinite(ray->org[i]) || !isfinite(ray->dir[i]))
+            return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT,
+                            "ray with a non-finite origin or direction");
+    if (ray->dir[0] == 0.0f && ray->dir[1] == 0.0f && ray->dir[2] == 0.0f)
+        return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT, "ray with a zero direction");
+    if (isnan(ray->tmin) || isnan(ray->tmax))
+        return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT, "ray with a NaN interval");
+    tt_wray_init(w, ray->org, ray->dir, ray->tmin, ray->tmax);
+    return TT_OK;
+}
+
+tt_status tt_intersect1_ex(const tt_accel *accel, const tt_ray *ray, tt_hit *hit,
+                           tt_trace_args *args)
+{
+    if (!accel || !ray || !hit) return TT_ERR_INVALID_ARGUMENT;
+    tt_wray w;
+    tt_status st = prepare(accel, ray, &w);
+    if (st != TT_OK) return st;
+    if (args && args->stats) accel->vt->intersect_stats(accel, &w, hit, args, args->stats);
+    else accel->vt->intersect(accel, &w, hit, args);
+    return TT_OK;
+}
+
+tt_status tt_occluded1_ex(const tt_accel *accel, const tt_ray *ray, int *occluded,
+                          tt_trace_args *args)
+{
+    if (!accel || !ray || !occluded) return TT_ERR_INVALID_ARGUMENT;
+    tt_wray w;
+    tt_status st = prepare(accel, ray, &w);
+    if (st != TT_OK) return st;
+    if (args && args->stats) *occluded = accel->vt->occluded_stats(accel, &w, args, args->stats);
+    else *occluded = accel->vt->occluded(accel, &w, args);
+    return TT_OK;
+}
+
+tt_status tt_intersect1(const tt_accel *accel, const tt_ray *ray, tt_hit *hit)
+{
+    return tt_intersect1_ex(accel, ray, hit, NULL);
+}
+
+tt_status tt_occluded1(const tt_accel *accel, const tt_ray *ray, int *occluded)
+{
+    return tt_occluded1_ex(accel, ray, occluded, NULL);
+}

@@ -1,0 +1,65 @@
+/* The acceleration-structure interface: one dispatch table per structure.
+ * Every structure (bruteforce, rtree, kdtree, embree) fills one of these; the
+ * renderer and the public API call through it and know nothing else. */
+#ifndef TT_ACCEL_ACCEL_H
+#define TT_ACCEL_ACCEL_H
+
+#include "core/context.h"
+#include "geometry/ray.h"
+#include "io/scene.h"
+
+typedef struct tt_accel_vtable {
+    const char *name;
+    /* Builds accel->impl from accel->scene and accel->options. */
+    tt_status (*build)(tt_accel *accel);
+    void (*destroy)(tt_accel *accel);
+    /* The fast path: closest hit on [ray->tmin, ray->tmax); hit->prim is
+     * TT_INVALID_ID and hit->t +inf on a miss. args may be NULL. */
+    void (*intersect)(const tt_accel *accel, const tt_wray *ray, tt_hit *hit,
+                      tt_trace_args *args);
+    int (*occluded)(const tt_accel *accel, const tt_wray *ray, tt_trace_args *args);
+    /* The counting variant, compiled separately so the fast path pays
+     * nothing; adds this ray's counts to *stats (stats->rays too). */
+    void (*intersect_stats)(const tt_accel *accel, const tt_wray *ray, tt_hit *hit,
+                            tt_trace_args *args, tt_ray_stats *stats);
+    int (*occluded_stats)(const tt_accel *accel, const tt_wray *ray, tt_trace_args *args,
+                          tt_ray_stats *stats);
+    /* Optional (NULL: TT_INVALID_ID): start hint for rays from point p. */
+    uint32_t (*locate)(const tt_accel *accel, const float *p);
+    /* Verifies the invariants; on failure reports through tt_error on
+     * accel->ctx and returns TT_ERR_INVARIANT. */
+    tt_status (*check)(const tt_accel *accel);
+    /* Emits structure statistics as key/value pairs. */
+    void (*statistics)(const tt_accel *accel, tt_stat_fn fn, void *user);
+    size_t (*memory)(const tt_accel *accel);
+} tt_accel_vtable;
+
+struct tt_accel {
+    const tt_accel_vtable *vt;
+    tt_context *ctx;
+    const tt_scene *scene;
+    tt_build_options options;
+    double build_s;
+    void *impl;
+};
+
+/* The structures compiled into this build. */
+extern const tt_accel_vtable tt_bruteforce_vtable;
+extern const tt_accel_vtable tt_rtree_vtable;
+extern const tt_accel_vtable tt_kdtree_vtable;
+#ifdef TT_HAVE_EMBREE
+extern const tt_accel_vtable tt_embree_vtable;
+#endif
+
+/* Lookup by name; NULL if unknown. */
+const tt_accel_vtable *tt_accel_find(const char *name);
+
+/* Helpers for implementations. */
+static inline void tt_hit_clear(tt_hit *hit)
+{
+    hit->t = TT_INF;
+    hit->u = hit->v = 0.0f;
+    hit->prim = TT_INVALID_ID;
+}
+
+#endif

@@ -1,0 +1,95 @@
+/* Axis-aligned boxes and the ray-box slab test, shared CPU/GPU. */
+#ifndef TT_GEOMETRY_AABB_H
+#define TT_GEOMETRY_AABB_H
+
+#include <math.h>
+
+#include "geometry/hd.h"
+#include "geometry/ray.h"
+
+typedef struct tt_aabb {
+    float lo[3];
+    float hi[3];
+} tt_aabb;
+
+TT_HD tt_aabb tt_aabb_empty(void)
+{
+    tt_aabb b = {{TT_INF, TT_INF, TT_INF}, {-TT_INF, -TT_INF, -TT_INF}};
+    return b;
+}
+
+TT_HD int tt_aabb_is_empty(const tt_aabb *b) { return !(b->lo[0] <= b->hi[0]); }
+
+TT_HD void tt_aabb_grow_point(tt_aabb *b, const float *p)
+{
+    for (int i = 0; i < 3; i++) {
+        b->lo[i] = fminf(b->lo[i], p[i]);
+        b->hi[i] = fmaxf(b->hi[i], p[i]);
+    }
+}
+
+TT_HD void tt_aabb_grow(tt_aabb *b, const tt_aabb *o)
+{
+    for (int i = 0; i < 3; i++) {
+        b->lo[i] = fminf(b->lo[i], o->lo[i]);
+        b->hi[i] = fmaxf(b->hi[i], o->hi[i]);
+    }
+}
+
+TT_HD tt_aabb tt_aabb_union(tt_aabb a, const tt_aabb *b)
+{
+    tt_aabb_grow(&a, b);
+    return a;
+}
+
+TT_HD float tt_aabb_extent(const tt_aabb *b, int axis) { return b->hi[axis] - b->lo[axis]; }
+
+TT_HD float tt_aabb_volume(const tt_aabb *b)
+{
+    if (tt_aabb_is_empty(b)) return 0.0f;
+    return tt_aabb_extent(b, 0) * tt_aabb_extent(b, 1) * tt_aabb_extent(b, 2);
+}
+
+/* Surface area (the 3D analogue of the R*-tree's margin is in the R-tree). */
+TT_HD float tt_aabb_area(const tt_aabb *b)
+{
+    if (tt_aabb_is_empty(b)) return 0.0f;
+    float x = tt_aabb_extent(b, 0), y = tt_aabb_extent(b, 1), z = tt_aabb_extent(b, 2);
+    return 2.0f * (x * y + y * z + z * x);
+}
+
+/* Volume of the intersection of two boxes (0 if disjoint). */
+TT_HD float tt_aabb_overlap(const tt_aabb *a, const tt_aabb *b)
+{
+    float v = 1.0f;
+    for (int i = 0; i < 3; i++) {
+        float e = fminf(a->hi[i], b->hi[i]) - fmaxf(a->lo[i], b->lo[i]);
+        if (e <= 0.0f) return 0.0f;
+        v *= e;
+    }
+    return v;
+}
+
+TT_HD int tt_aabb_contains_point(const tt_aabb *b, const float *p)
+{
+    return p[0] >= b->lo[0] && p[0] <= b->hi[0] && p[1] >= b->lo[1] && p[1] <= b->hi[1] &&
+           p[2] >= b->lo[2] && p[2] <= b->hi[2];
+}
+
+/* Conservative slab test on the ray's [tmin, tmax). Returns the entry
+ * distance, or +inf if the box is missed. The far distance is widened by a
+ * few ulps (Ize 2013) so rounding never culls a box a triangle inside it is
+ * hit in; the precomputed inverse direction never holds inf (see ray.h), so
+ * no 0 * inf NaN can arise for rays lying in a slab's plane. */
+TT_HD float tt_ray_box(const tt_wray *r, const float *lo, const float *hi, float tmax)
+{
+    float tx0 = (lo[0] - r->org[0]) * r->inv[0], tx1 = (hi[0] - r->org[0]) * r->inv[0];
+    float ty0 = (lo[1] - r->org[1]) * r->inv[1], ty1 = (hi[1] - r->org[1]) * r->inv[1];
+    float tz0 = (lo[2] - r->org[2]) * r->inv[2], tz1 = (hi[2] - r->org[2]) * r->inv[2];
+    float tnear = fmaxf(fmaxf(fminf(tx0, tx1), fminf(ty0, ty1)), fmaxf(fminf(tz0, tz1), r->tmin));
+    float tfar = fminf(fminf(fmaxf(tx0, tx1), fmaxf(ty0, ty1)), fmaxf(tz0, tz1));
+    tfar *= 1.00000024f; /* 1 + 2 gamma(3) */
+    return (tnear <= tfar && tnear < tmax) ? tnear : TT_INF;
+}
+
+#endif

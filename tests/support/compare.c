@@ -1,0 +1,155 @@
+#include "compare.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#define MAX_REPORTS 5
+
+int tt_test_hits_agree(const tt_hit *a, const tt_hit *b)
+{
+    int ma = a->prim == TT_INVALID_ID, mb = b->prim == TT_INVALID_ID;
+    if (ma || mb) return ma && mb;
+    if (a->prim == b->prim) return 1;
+    float scale = fmaxf(fabsf(a->t), fabsf(b->t));
+    return fabsf(a->t - b->t) <= 1e-4f * scale;
+}
+
+typedef struct cmp_state {
+    size_t bad;
+    const char *what;
+} cmp_state;
+
+static void report(cmp_state *s, const char *kind, const tt_ray *r, const char *detail)
+{
+    if (s->bad++ < MAX_REPORTS)
+        fprintf(stderr,
+                "mismatch (%s, %s): org %.9g %.9g %.9g dir %.9g %.9g %.9g t [%g, %g): %s\n",
+                s->what, kind, r->org[0], r->org[1], r->org[2], r->dir[0], r->dir[1], r->dir[2],
+                r->tmin, r->tmax, detail);
+}
+
+/* Traces one ray both ways (fast and counting) with the structure under test
+ * and once with the reference; returns the reference hit and the test's end
+ * hint through *end. */
+static void check_closest(cmp_state *s, const tt_accel *test, const tt_accel *ref,
+                          const tt_ray *r, uint32_t start, tt_hit *ref_hit, uint32_t *end)
+{
+    tt_hit h_ref, h_fast, h_stats;
+    tt_ray_stats st;
+    memset(&st, 0, sizeof st);
+    tt_trace_args a_fast = {start, TT_INVALID_ID, NULL};
+    tt_trace_args a_stats = {start, TT_INVALID_ID, &st};
+    tt_status e1 = tt_intersect1(ref, r, &h_ref);
+    tt_status e2 = tt_intersect1_ex(test, r, &h_fast, &a_fast);
+    tt_status e3 = tt_intersect1_ex(test, r, &h_stats, &a_stats);
+    char msg[256];
+    if (e1 || e2 || e3) {
+        report(s, "closest", r, "a call failed");
+    } else if (!tt_test_hits_agree(&h_ref, &h_fast) || !tt_test_hits_agree(&h_ref, &h_stats)) {
+        snprintf(msg, sizeof msg, "reference prim %u t %.9g, fast prim %u t %.9g, stats prim %u t %.9g",
+                 h_ref.prim, h_ref.t, h_fast.prim, h_fast.t, h_stats.prim, h_stats.t);
+        report(s, "closest", r, msg);
+    } else if (st.rays != 1) {
+        report(s, "closest", r, "the counting variant did not count exactly one ray");
+    }
+    if (ref_hit) *ref_hit = h_ref;
+    if (end) *end = a_fast.end_hint;
+}
+
+static void check_occluded(cmp_state *s, const tt_accel *test, const tt_accel *ref,
+                           const tt_ray *r, uint32_t start)
+{
+    int o_ref = -1, o_fast = -2, o_stats = -3;
+    tt_ray_stats st;
+    memset(&st, 0, sizeof st);
+    tt_trace_args a_fast = {start, TT_INVALID_ID, NULL};
+    tt_trace_args a_stats = {start, TT_INVALID_ID, &st};
+    tt_occluded1(ref, r, &o_ref);
+    tt_occluded1_ex(test, r, &o_fast, &a_fast);
+    tt_occluded1_ex(test, r, &o_stats, &a_stats);
+    if (o_ref != o_fast || o_ref != o_stats) {
+        char msg[128];
+        snprintf(msg, sizeof msg, "reference %d, fast %d, stats %d", o_ref, o_fast, o_stats);
+        report(s, "occluded", r, msg);
+    }
+}
+
+size_t tt_test_compare_view(const tt_scene *scene, const tt_accel *test, const tt_accel *ref,
+                            const tt_camera *camera, uint32_t width, uint32_t height)
+{
+    cmp_state s = {0, tt_accel_name(test)};
+    uint32_t eye_hint = tt_accel_locate(test, camera->eye);
+    for (uint32_t y = 0; y < height; y++) {
+        for (uint32_t x = 0; x < width; x++) {
+            tt_ray r, sr;
+            tt_hit h;
+            uint32_t end = TT_INVALID_ID;
+            tt_camera_ray(camera, width, height, x, y, &r);
+            check_closest(&s, test, ref, &r, eye_hint, &h, &end);
+            if (tt_shadow_ray(scene, camera, &r, &h, &sr)) check_occluded(&s, test, ref, &sr, end);
+        }
+    }
+    if (s.bad) fprintf(stderr, "%s: %zu of %u pixels disagree\n", s.what, s.bad, width * height);
+    return s.bad;
+}
+
+/* xorshift32: a fixed, portable sequence. */
+static uint32_t next(uint32_t *x)
+{
+    *x ^= *x << 13;
+    *x ^= *x >> 17;
+    *x ^= *x << 5;
+    return *x;
+}
+
+static float unit(uint32_t *x) { return (float)(next(x) >> 8) * (1.0f / 16777216.0f); }
+
+size_t tt_test_compare_random(const tt_scene *scene, const tt_accel *test, const tt_accel *ref,
+                              uint32_t n, uint32_t seed)
+{
+    cmp_state s = {0, tt_accel_name(test)};
+    float lo[3], hi[3];
+    tt_scene_bounds(scene, lo, hi);
+    if (!(lo[0] <= hi[0])) lo[0] = lo[1] = lo[2] = -1.0f, hi[0] = hi[1] = hi[2] = 1.0f;
+    uint32_t x = seed ? seed : 1;
+    for (uint32_t i = 0; i < n; i++) {
+        tt_ray r;
+        int kind = (int)(next(&x) % 4);
+        for (int k = 0; k < 3; k++) {
+            float e = hi[k] - lo[k];
+            /* kind 0: outside-ish origins over twice the box; else inside */
+            float spread = kind == 0 ? 2.0f : 1.0f;
+            r.org[k] = lo[k] + e * (0.5f + spread * (unit(&x) - 0.5f));
+            r.dir[k] = unit(&x) * 2.0f - 1.0f;
+        }
+        if (kind == 2) { /* axis-parallel */
+            int axis = (int)(next(&x) % 3);
+            r.dir[0] = r.dir[1] = r.dir[2] = 0.0f;
+            r.dir[axis] = (next(&x) & 1) ? 1.0f : -1.0f;
+        } else if (kind == 3) { /* one zero component */
+            r.dir[next(&x) % 3] = 0.0f;
+        }
+        if (r.dir[0] == 0.0f && r.dir[1] == 0.0f && r.dir[2] == 0.0f) r.dir[0] = 1.0f;
+        r.tmin = 0.0f;
+        r.tmax = INFINITY;
+        check_closest(&s, test, ref, &r, TT_INVALID_ID, NULL, NULL);
+        float diag = sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                           (hi[2] - lo[2]) * (hi[2] - lo[2]));
+        r.tmax = unit(&x) * diag;
+        check_occluded(&s, test, ref, &r, TT_INVALID_ID);
+    }
+    if (s.bad) fprintf(stderr, "%s: %zu of %u random rays disagree\n", s.what, s.bad, n);
+    return s.bad;
+}
+
+size_t tt_test_compare_rays(const tt_accel *test, const tt_accel *ref, const tt_ray *rays,
+                            size_t n)
+{
+    cmp_state s = {0, tt_accel_name(test)};
+    for (size_t i = 0; i < n; i++) {
+        check_closest(&s, test, ref, &rays[i], TT_INVALID_ID, NULL, NULL);
+        check_occluded(&s, test, ref, &rays[i], TT_INVALID_ID);
+    }
+    return s.bad;
+}
