@@ -1,0 +1,98 @@
+/* Ray-versus-cell arithmetic shared by every kd-tree traversal (CPU and GPU).
+ *
+ * Robustness rests on one rule: the distance at which a ray crosses a plane
+ * x_k = c is always computed the same way, (c - org_k) * inv_k, whether c is
+ * a split position met while descending or the face of a sparse box met
+ * while climbing back up. A box face IS the split position of an ancestor
+ * (the same float), so both give bit-identical distances and the cells a
+ * traversal visits tile the ray without gaps or overlaps, with no epsilon.
+ *
+ * Axes along which the ray does not move (dir_k == 0, possibly -0) never
+ * produce a distance: the ray is simply on one side of such a plane for its
+ * whole length, or lies in it, which each traversal handles explicitly. */
+#ifndef TT_ACCEL_KDTREE_KD_RAY_H
+#define TT_ACCEL_KDTREE_KD_RAY_H
+
+#include "accel/kdtree/kd_layout.h"
+#include "geometry/ray.h"
+
+/* The ray's interval [*ta, *tb] inside a box, clipped to its [tmin, tmax).
+ * Returns 0 if the ray misses it. A zero-length interval (a ray grazing an
+ * edge or corner) counts as a hit of the box. */
+TT_HD int tt_kd_box_interval(const tt_kd_aug *a, const tt_wray *r, float *ta, float *tb)
+{
+    float t0 = r->tmin, t1 = TT_INF;
+    for (int k = 0; k < 3; k++) {
+        const float lo = TT_LDG(&a->lo[k]), hi = TT_LDG(&a->hi[k]), o = r->org[k];
+        if (r->dir[k] == 0.0f) {
+            if (!(o >= lo && o <= hi)) return 0;
+            continue;
+        }
+        const float tl = (lo - o) * r->inv[k], th = (hi - o) * r->inv[k];
+        const int neg = r->dir[k] < 0.0f;
+        t0 = fmaxf(t0, neg ? th : tl);
+        t1 = fminf(t1, neg ? tl : th);
+    }
+    if (!(t0 <= t1 && t0 < r->tmax)) return 0;
+    *ta = t0;
+    *tb = t1;
+    return 1;
+}
+
+/* The same for the scene box (aug[0]); an empty tree is never hit. */
+TT_HD int tt_kd_root_interval(const tt_kd_view *T, const tt_wray *r, float *ta, float *tb)
+{
+    return !T->empty && tt_kd_box_interval(&T->aug[0], r, ta, tb);
+}
+
+/* Where the ray leaves a sparse box (the ray is known to be in it). */
+TT_HD float tt_kd_box_exit(const tt_kd_aug *a, const tt_wray *r)
+{
+    float t = TT_INF;
+    for (int k = 0; k < 3; k++) {
+        if (r->dir[k] == 0.0f) continue;
+        const float face = r->dir[k] < 0.0f ? TT_LDG(&a->lo[k]) : TT_LDG(&a->hi[k]);
+        t = fminf(t, (face - r->org[k]) * r->inv[k]);
+    }
+    return t;
+}
+
+/* Whether a traversal may start in this box: its closed box holds the
+ * origin, and strictly so across the axes the ray does not move along (a
+ * ray lying in a face of the box also runs along the neighbouring cell,
+ * which a traversal started inside the box would never see). */
+TT_HD int tt_kd_box_holds_origin(const tt_kd_aug *a, const tt_wray *r)
+{
+    for (int k = 0; k < 3; k++) {
+        const float lo = TT_LDG(&a->lo[k]), hi = TT_LDG(&a->hi[k]), o = r->org[k];
+        if (r->dir[k] == 0.0f) {
+            if (!(o > lo && o < hi)) return 0;
+        } else if (!(o >= lo && o <= hi)) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* The start node (an aug[] index) for a ray whose root interval is
+ * [*ta, *tb]: the hinted augmented node, or the nearest augmented ancestor
+ * of it that holds the ray origin, with the interval narrowed to that box;
+ * the root when the hint is TT_INVALID_ID or out of range, when no box on
+ * the way up holds the origin, or when tmin != 0 (the hint describes the
+ * origin, not the point at tmin). *tests counts the boxes tested. */
+TT_HD uint32_t tt_kd_start_node(const tt_kd_view *T, const tt_wray *r, uint32_t hint, float *ta,
+                                float *tb, unsigned *tests)
+{
+    if (hint == 0 || hint >= T->aug_count || r->tmin != 0.0f) return 0;
+    for (uint32_t h = hint; h != 0 && h != TT_KD_NO_PARENT; h = TT_LDG(&T->aug[h].parent)) {
+        ++*tests;
+        if (tt_kd_box_holds_origin(&T->aug[h], r)) {
+            *ta = r->tmin;
+            *tb = tt_kd_box_exit(&T->aug[h], r);
+            return h;
+        }
+    }
+    return 0;
+}
+
+#endif

@@ -1,0 +1,117 @@
+/* BTR: bottom-up traversal with a stack (Havran & Bittner, Algorithm 2). A
+ * template (see accel/stats_variant.h); include kd_trace_common.h first.
+ *
+ * A round is a stack traversal (as HTR) of one augmented node's subtree
+ * over the ray's interval inside its box. The first round starts in the
+ * hinted node (or the nearest augmented ancestor holding the origin); when
+ * a round ends without a hit closer than its box exit, the ray continues
+ * from the nearest augmented ancestor whose box it has not yet left, the
+ * new round starting exactly at the previous box's exit (see kd_ray.h: box
+ * faces and split planes give identical distances). In such a restart the
+ * cell behind a plane crossed exactly at that entry distance was covered
+ * by the previous round and is skipped, so no leaf is visited twice. */
+
+/* Rounds from augmented node `start` on [ta, tb], climbing no higher than
+ * `stop` (TT_KD_NO_PARENT: up to the root). */
+TT_HD int TT_VARIANT(tt_kd_btr_from)(const tt_kd_view *T, const tt_wray *r, int any,
+                                     uint32_t start, float ta, float tb, uint32_t stop,
+                                     tt_kd_best *best, uint32_t *end, tt_ray_stats *stats)
+{
+    struct {
+        uint32_t node, aug;
+        float ta, tb;
+    } stack[TT_KD_STACK];
+    (void)stats;
+    float restart = -TT_INF; /* the entry distance of a restarted round */
+    for (;;) {
+        const float round_tb = tb;
+        uint32_t node = T->aug[start].node, aug = start;
+        int sp = 0;
+        for (;;) {
+            tt_kd_node n = T->nodes[node];
+            while (!tt_kd_is_leaf(n.bits)) {
+                TT_COUNT(stats, interior, 1);
+                TT_COUNT(stats, nodes, 1);
+                if (tt_kd_is_aug(n.bits)) aug = tt_kd_aug_index(T->nodes, node);
+                const int k = tt_kd_axis(n.bits);
+                const uint32_t left = tt_kd_left(node, n.bits), right = tt_kd_right(n.bits);
+                const float d = r->dir[k];
+                if (d == 0.0f) {
+                    const float o = r->org[k];
+                    if (o < n.u.split) node = left;
+                    else if (o > n.u.split) node = right;
+                    else {
+                        stack[sp].node = right;
+                        stack[sp].aug = aug;
+                        stack[sp].ta = ta;
+                        stack[sp].tb = tb;
+                        sp++;
+                        node = left;
+                    }
+                } else {
+                    const float ts = (n.u.split - r->org[k]) * r->inv[k];
+                    const uint32_t first = d < 0.0f ? right : left, second = d < 0.0f ? left : right;
+                    if (ts < ta || ts == restart) {
+                        node = second;
+                    } else if (ts > tb) {
+                        node = first;
+                    } else {
+                        stack[sp].node = second;
+                        stack[sp].aug = aug;
+                        stack[sp].ta = ts;
+                        stack[sp].tb = tb;
+                        sp++;
+                        node = first;
+                        tb = ts;
+                    }
+                }
+                n = T->nodes[node];
+            }
+            if (TT_VARIANT(tt_kd_leaf)(T, n, r, any, best, stats)) {
+                *end = aug;
+                return 1;
+            }
+            if (best->t <= tb) *end = aug;
+            do {
+                if (sp == 0) goto round_done;
+                sp--;
+            } while (stack[sp].ta >= best->t);
+            node = stack[sp].node;
+            aug = stack[sp].aug;
+            ta = stack[sp].ta;
+            tb = stack[sp].tb;
+        }
+    round_done:
+        if (best->t <= round_tb) return 0;
+        /* TraverseUp: the nearest augmented ancestor the ray is still in. */
+        uint32_t a = start;
+        int found = 0;
+        while (!found && a != stop && T->aug[a].parent != TT_KD_NO_PARENT) {
+            a = T->aug[a].parent;
+            TT_COUNT(stats, boxes, 1);
+            const float e = tt_kd_box_exit(&T->aug[a], r);
+            if (round_tb < e) {
+                found = 1;
+                start = a;
+                restart = ta = round_tb;
+                tb = e;
+            }
+        }
+        if (!found) return 0;
+    }
+}
+
+TT_HD int TT_VARIANT(tt_kd_btr)(const tt_kd_view *T, const tt_wray *r, int any, uint32_t hint,
+                                tt_kd_best *best, uint32_t *end, tt_ray_stats *stats)
+{
+    float ta, tb;
+    unsigned tests = 1;
+    (void)stats;
+    if (!tt_kd_root_interval(T, r, &ta, &tb)) {
+        TT_COUNT(stats, boxes, tests);
+        return 0;
+    }
+    uint32_t start = tt_kd_start_node(T, r, hint, &ta, &tb, &tests);
+    TT_COUNT(stats, boxes, tests);
+    return TT_VARIANT(tt_kd_btr_from)(T, r, any, start, ta, tb, TT_KD_NO_PARENT, best, end, stats);
+}
