@@ -106,7 +106,7 @@ static tt_status binary_value(ply_reader *r, ply_type t, value *out)
     size_t n = tt_ply_type_size(t);
     r->value_pos = r->pos;
     if (r->size - r->pos < n)
-        return fail(r, "truncated: a %s needs %zu bytes, the file has %zu left",
+        return fail(r, "truncated: the %s value needs %zu bytes, the file has %zu left",
                     tt_ply_type_name(t), n, r->size - r->pos);
     *out = decode(load_bits((const unsigned char *)r->data + r->pos, n, r->h->format == PLY_BINARY_BE), t);
     r->pos += n;

@@ -1,5 +1,6 @@
 #include "io/ply_header.h"
 
+#include <stdio.h>
 #include <string.h>
 
 #include "io/number.h"
@@ -85,19 +86,21 @@ void tt_ply_header_free(tt_context *ctx, ply_header *h)
     h->properties = NULL;
 }
 
-/* The fewest bytes one element can take in the body: binary, every scalar
- * and list count at its size and the face index list with 3 entries; ascii,
- * one character and one separator a value. */
+/* The fewest bytes one element can take in the body. Binary: every scalar
+ * and list count at its size, and the face index list with its 3 indices.
+ * Ascii: one character and one separator a value, lists counted by their
+ * count alone (so that a short face is reported by the body parser, with its
+ * line). */
 static uint64_t min_element_bytes(const ply_header *h, const ply_element *e)
 {
     uint64_t n = 0;
     for (size_t i = 0; i < e->property_count; i++) {
         const ply_property *p = &h->properties[e->first_property + i];
-        uint64_t items = p->role == ROLE_INDICES ? 3 : 0;
         if (h->format == PLY_ASCII)
-            n = sat_add(n, 2 * (p->is_list ? 1 + items : 1));
+            n = sat_add(n, 2);
         else if (p->is_list)
-            n = sat_add(n, tt_ply_type_size(p->count_type) + items * tt_ply_type_size(p->type));
+            n = sat_add(n, tt_ply_type_size(p->count_type) +
+                               (p->role == ROLE_INDICES ? 3 : 0) * tt_ply_type_size(p->type));
         else
             n = sat_add(n, tt_ply_type_size(p->type));
     }
@@ -313,7 +316,8 @@ static tt_status assign_roles(tt_context *ctx, const char *name, ply_header *h)
 }
 
 /* Refuses counts that the file's remaining bytes cannot hold, before any
- * allocation sized by them. */
+ * allocation sized by them: a few header bytes cannot make us reserve
+ * gigabytes. The error is a truncation at the end of the file. */
 static tt_status check_sizes(tt_context *ctx, const char *name, const ply_header *h, size_t size)
 {
     uint64_t body = size - h->body_offset;
@@ -323,14 +327,19 @@ static tt_status check_sizes(tt_context *ctx, const char *name, const ply_header
     for (size_t i = 0; i < h->element_count; i++) {
         const ply_element *e = &h->elements[i];
         uint64_t one = min_element_bytes(h, e);
-        uint64_t all = sat_mul(e->count, one);
-        need = sat_add(need, all);
-        if (need > avail)
-            return tt_error(ctx, TT_ERR_PARSE,
-                            "%s:%zu: element %.*s declares %llu items of at least %llu bytes each, "
-                            "but the body after the header has only %llu bytes",
-                            name, e->line, NAME_ARG(e->name, e->name_len), (unsigned long long)e->count,
-                            (unsigned long long)one, (unsigned long long)body);
+        need = sat_add(need, sat_mul(e->count, one));
+        if (need <= avail) continue;
+        char where[64];
+        if (h->format == PLY_ASCII) snprintf(where, sizeof where, "%zu", e->line);
+        else snprintf(where, sizeof where, " byte %zu", size);
+        return tt_error(ctx, TT_ERR_PARSE,
+                        "%s:%s: truncated: element %.*s (header line %zu) declares %llu items of at "
+                        "least %llu bytes each; with the elements before it that needs at least "
+                        "%llu%s bytes after the header, but the file has only %llu",
+                        name, where, NAME_ARG(e->name, e->name_len), e->line,
+                        (unsigned long long)e->count, (unsigned long long)one,
+                        (unsigned long long)need, need == UINT64_MAX ? "+" : "",
+                        (unsigned long long)body);
     }
     return TT_OK;
 }
