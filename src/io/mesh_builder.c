@@ -24,7 +24,8 @@ static tt_status grow(tt_mesh_builder *mb, void **array, size_t *cap, size_t cou
                       size_t max, size_t item_size, const char *what)
 {
     if (n > max - count)
-        return tt_error(mb->ctx, TT_ERR_OUT_OF_MEMORY, "%s: more than %zu %s", mb->name, max, what);
+        return tt_error(mb->ctx, TT_ERR_PARSE, "%s: more than %zu %s (32-bit indices and ids)",
+                        mb->name, max, what);
     size_t need = count + n;
     if (need <= *cap) return TT_OK;
     size_t new_cap = *cap < 1024 ? 1024 : *cap;

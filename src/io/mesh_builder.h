@@ -25,7 +25,7 @@ void tt_mb_init(tt_mesh_builder *mb, tt_context *ctx, const char *name);
 void tt_mb_free(tt_mesh_builder *mb);
 
 /* Room for at least n more vertices / triangles; TT_ERR_OUT_OF_MEMORY (with
- * a message) on failure or when the limits above would be exceeded. */
+ * a message) on failure, TT_ERR_PARSE past the limits above. */
 tt_status tt_mb_reserve_vertices(tt_mesh_builder *mb, size_t n);
 tt_status tt_mb_reserve_triangles(tt_mesh_builder *mb, size_t n);
 

@@ -51,6 +51,9 @@ const char *tt_quote_token(char *buf, size_t buf_size, const char *s, size_t len
     return buf;
 }
 
+/* A '#' token starts a trailing comment ("v 1 2 3 # top"). */
+static int is_comment(const char *p, const char *end) { return p < end && *p == '#'; }
+
 /* v x y z [w | r g b ...]: the extra numbers are checked but ignored. */
 static tt_status parse_vertex(obj_parser *o, const char *p, const char *end)
 {
@@ -60,7 +63,7 @@ static tt_status parse_vertex(obj_parser *o, const char *p, const char *end)
     int k = 0;
     for (;; k++) {
         p = skip_blank(p, end);
-        if (p == end) break;
+        if (p == end || is_comment(p, end)) break;
         const char *e = token_end(p, end);
         float f;
         tt_num_result r = tt_parse_float(p, (size_t)(e - p), &f);
@@ -129,7 +132,7 @@ static tt_status parse_face(obj_parser *o, const char *p, const char *end)
     tt_status st;
     for (;; k++) {
         p = skip_blank(p, end);
-        if (p == end) break;
+        if (p == end || is_comment(p, end)) break;
         const char *e = token_end(p, end);
         uint32_t v = 0;
         if ((st = parse_face_vertex(o, p, e, k, &v))) return st;

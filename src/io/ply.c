@@ -39,7 +39,7 @@ typedef struct ply_reader {
 static tt_status fail(ply_reader *r, const char *fmt, ...) TT_PRINTF(2, 3);
 static tt_status fail(ply_reader *r, const char *fmt, ...)
 {
-    char msg[512], where[128] = "";
+    char msg[512], where[256] = "";
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
@@ -146,10 +146,12 @@ static int fits(int64_t v, ply_type t)
     }
 }
 
-/* An ascii value of type t. Floats are only converted when wanted
- * (coordinates, or an integer stored as a float); a skipped float only has
- * to be well-formed. */
-static tt_status ascii_value(ply_reader *r, ply_type t, int want_float, value *out)
+/* What a value is read for: skipped (only checked to be well-formed), a
+ * coordinate (a correctly rounded float), or a count or index (an integer,
+ * even when stored in a float type). */
+typedef enum want { WANT_SKIP, WANT_FLOAT, WANT_INTEGER } want;
+
+static tt_status ascii_value(ply_reader *r, ply_type t, want w, value *out)
 {
     const char *s = NULL;
     size_t len = 0;
@@ -157,15 +159,19 @@ static tt_status ascii_value(ply_reader *r, ply_type t, int want_float, value *o
     tt_status st = ascii_token(r, &s, &len);
     if (st) return st;
     out->is_float = tt_ply_type_is_float(t);
-    if (!out->is_float) {
+    if (!out->is_float || w == WANT_INTEGER) {
         tt_num_result res = tt_parse_int64(s, len, &out->i);
         if (res == TT_NUM_OK && !fits(out->i, t)) res = TT_NUM_RANGE;
-        if (res != TT_NUM_OK)
+        if (res == TT_NUM_OK) {
+            out->is_float = 0;
+            return TT_OK;
+        }
+        if (!out->is_float)
             return fail(r, "%s %s for type %s", res == TT_NUM_RANGE ? "value out of range" : "malformed integer",
                         tt_quote_token(q, sizeof q, s, len), tt_ply_type_name(t));
-        return TT_OK;
+        /* a float type holding an integer as "3.0" or "3e0": checked by the caller */
     }
-    if (!want_float) {
+    if (w == WANT_SKIP) {
         if (!tt_is_float_token(s, len))
             return fail(r, "malformed number %s", tt_quote_token(q, sizeof q, s, len));
         out->d = 0.0;
@@ -181,16 +187,16 @@ static tt_status ascii_value(ply_reader *r, ply_type t, int want_float, value *o
 
 /* ------------------------------------------------------ typed, either format */
 
-static tt_status read_value(ply_reader *r, ply_type t, int want_float, value *out)
+static tt_status read_value(ply_reader *r, ply_type t, want w, value *out)
 {
-    return r->h->format == PLY_ASCII ? ascii_value(r, t, want_float, out) : binary_value(r, t, out);
+    return r->h->format == PLY_ASCII ? ascii_value(r, t, w, out) : binary_value(r, t, out);
 }
 
 /* A coordinate: finite and within float range. */
 static tt_status read_coord(ply_reader *r, ply_type t, float *out)
 {
     value v;
-    tt_status st = read_value(r, t, 1, &v);
+    tt_status st = read_value(r, t, WANT_FLOAT, &v);
     if (st) return st;
     if (!v.is_float) {
         *out = (float)v.i;
@@ -206,7 +212,7 @@ static tt_status read_coord(ply_reader *r, ply_type t, float *out)
 static tt_status read_integer(ply_reader *r, ply_type t, const char *what, int64_t *out)
 {
     value v;
-    tt_status st = read_value(r, t, 1, &v);
+    tt_status st = read_value(r, t, WANT_INTEGER, &v);
     if (st) return st;
     if (!v.is_float) {
         *out = v.i;
@@ -264,7 +270,7 @@ static tt_status skip_list(ply_reader *r, const ply_property *p)
     }
     value v;
     for (int64_t k = 0; k < count; k++)
-        if ((st = ascii_value(r, p->type, 0, &v))) return st;
+        if ((st = ascii_value(r, p->type, WANT_SKIP, &v))) return st;
     return TT_OK;
 }
 
@@ -294,7 +300,7 @@ static tt_status read_element(ply_reader *r, const ply_element *e, int is_vertex
             if (p->role >= ROLE_X && p->role <= ROLE_Z) st = read_coord(r, p->type, &xyz[p->role - ROLE_X]);
             else if (p->role == ROLE_INDICES) st = read_face_list(r, p);
             else if (p->is_list) st = skip_list(r, p);
-            else st = read_value(r, p->type, 0, &v);
+            else st = read_value(r, p->type, WANT_SKIP, &v);
             if (st) return st;
         }
         r->property = NULL;

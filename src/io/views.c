@@ -145,12 +145,11 @@ tt_status tt_view_find_memory(tt_context *ctx, const char *views_name, const cha
     if (!data && size)
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "%s: NULL data with a nonzero size", views_name);
     const char *colon = strchr(name, ':');
-    if (!colon || colon == name || !colon[1])
+    if (!colon || name[0] == ':' || name[strlen(name) - 1] == ':')
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT,
                         "%s: view name \"%.64s\" is not SCENE:VIEW (e.g. conference:main)",
                         views_name, name);
-    size_t scene_len = (size_t)(colon - name);
-    const char *view = colon + 1;
+    size_t name_len = strlen(name);
     const char *p = data ? data : "", *end = p + size;
     size_t line = 0, found_line = 0;
     tt_camera found;
@@ -193,7 +192,9 @@ tt_status tt_view_find_memory(tt_context *ctx, const char *views_name, const cha
         tt_status st = parse_view(ctx, views_name, line, f, n, &cam);
         if (st) return st;
         append_name(names, sizeof names, f);
-        if (f[0].len == scene_len && !memcmp(f[0].s, name, scene_len) && field_is(f[1], view)) {
+        /* "scene:view" compared whole, so a ':' inside either part is harmless */
+        if (f[0].len + 1 + f[1].len == name_len && !memcmp(f[0].s, name, f[0].len) &&
+            name[f[0].len] == ':' && !memcmp(f[1].s, name + f[0].len + 1, f[1].len)) {
             if (found_line)
                 return tt_error(ctx, TT_ERR_PARSE, "%s:%zu: view %.64s is defined again (first on line %zu)",
                                 views_name, line, name, found_line);

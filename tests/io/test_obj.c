@@ -79,11 +79,13 @@ static void check_ignored_lines(tt_context *ctx)
         "p 1\n"
         "f 1/1/1 2/1/1 3/1/1\n"
         "vx is not a v line\n"
-        "fo neither is this f\n";
+        "fo neither is this f\n"
+        "f 1 2 3 # a trailing comment\n"
+        "v 9 9 9 # another\n";
     tt_scene *s = load_ok(ctx, text);
-    static const uint32_t want[] = {0, 1, 2};
-    CHECK(indices_are(s, want, 1));
-    CHECK(s && tt_scene_vertex_count(s) == 3);
+    static const uint32_t want[] = {0, 1, 2, 0, 1, 2};
+    CHECK(indices_are(s, want, 2));
+    CHECK(s && tt_scene_vertex_count(s) == 4);
     tt_scene_destroy(s);
 }
 

@@ -468,6 +468,19 @@ static void check_binary_errors(tt_context *ctx)
     put(&b, LE, "float", 2);
     snprintf(where, sizeof where, "b.ply: byte %zu:", b.size - 8);
     EXPECT_BUF_ERR(ctx, &b, where, "vertex index 1.5 is not an integer");
+    /* ascii: float-typed indices written as integers or as integral floats */
+    const char *ascii_float_idx = HDR_ASCII VERT3 "element face 2\nproperty list float double vertex_indices\nend_header\n"
+                                  BODY3 "3 0 1 2\n3.0 2e0 1.0 16777217\n";
+    EXPECT_LOAD_ERR(ctx, "f.ply", ascii_float_idx, TT_ERR_PARSE, "f.ply:14:", "vertex index 16777217", "out of range");
+    ascii_float_idx = HDR_ASCII VERT3 "element face 2\nproperty list float double vertex_indices\nend_header\n"
+                      BODY3 "3 0 1 2\n3.0 2e0 1.0 0\n";
+    s = NULL;
+    CHECK_OK(ctx, load_str(ctx, "f.ply", ascii_float_idx, &s));
+    static const float t1[9] = {0, 1, 0, 1, 0, 0, 0, 0, 0};
+    CHECK(s && tt_scene_triangle_count(s) == 2 && triangle_is(s, 1, t1));
+    tt_scene_destroy(s);
+    EXPECT_LOAD_ERR(ctx, "f.ply", HDR_ASCII VERT3 "element face 1\nproperty list float double vertex_indices\nend_header\n"
+                    BODY3 "3 0 1 1.25\n", TT_ERR_PARSE, "f.ply:13:", "vertex index 1.25 is not an integer");
     b.size -= 8;
     put(&b, LE, "float", 1);
     put(&b, LE, "float", 2);

@@ -41,6 +41,9 @@ static void check_good(tt_context *ctx)
     CHECK(c.has_light == 0 && c.fov_deg == 30.5f);
     CHECK_OK(ctx, find(ctx, text, "b:one", &c));
     CHECK(c.has_light == 0 && c.fov_deg == 90.0f && c.look[2] == 6.0f && c.up[2] == 1.0f);
+    /* a ':' inside a name: matched as a whole "scene:view" */
+    CHECK_OK(ctx, find(ctx, text, "a:b:c", &c));
+    CHECK(c.up[0] == 1.0f && c.has_light == 1);
     /* not SCENE:VIEW */
     EXPECT_ERR(ctx, find(ctx, text, "aone", &c), TT_ERR_INVALID_ARGUMENT, "v.tsv", "SCENE:VIEW");
     EXPECT_ERR(ctx, find(ctx, text, ":one", &c), TT_ERR_INVALID_ARGUMENT, "SCENE:VIEW");
