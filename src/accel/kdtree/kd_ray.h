@@ -16,10 +16,41 @@
 #include "accel/kdtree/kd_layout.h"
 #include "geometry/ray.h"
 
+/* The stack traversals widen every plane crossing by this much relative
+ * uncertainty (see tt_kd_band): 2^-19, some 30 float rounding units. */
+#define TT_KD_BAND 1.9073486e-6f
+
+/* A ray's crossing distance ts of a plane x_k = p is uncertain: (p - o) and
+ * 1 / d are rounded, and the watertight triangle test sees the ray through
+ * its own rounding. When two planes are crossed at nearly the same distance
+ * (a ray through an edge of the tree, or aimed at a vertex, which lies on
+ * split planes), the computed order of the crossings may differ from where
+ * the triangle test finds the ray, so the triangle it hits at the corner
+ * may lie in a cell the computed order skips. The stack traversals
+ * therefore visit a child when its interval widened by
+ * e = band * (|p| + |o_k|) / |d_k| (an upper bound of the rounding error,
+ * with a wide margin) touches the ray's. Visiting a cell too many only costs
+ * time; hits stay exact (closest so far, see kd_trace_common.h). Per ray:
+ * bi[k] = band |inv_k|, bo[k] = band |o_k inv_k|, so e = |p| bi[k] + bo[k]. */
+typedef struct tt_kd_band {
+    float bi[3], bo[3];
+} tt_kd_band;
+
+TT_HD void tt_kd_band_init(tt_kd_band *b, const tt_wray *r)
+{
+    for (int k = 0; k < 3; k++) {
+        b->bi[k] = TT_KD_BAND * fabsf(r->inv[k]);
+        b->bo[k] = b->bi[k] * fabsf(r->org[k]);
+    }
+}
+
 /* The ray's interval [*ta, *tb] inside a box, clipped to its [tmin, tmax).
  * Returns 0 if the ray misses it. A zero-length interval (a ray grazing an
- * edge or corner) counts as a hit of the box. */
-TT_HD int tt_kd_box_interval(const tt_kd_aug *a, const tt_wray *r, float *ta, float *tb)
+ * edge or corner) counts as a hit of the box. With a band (the stack
+ * traversals), each face crossing is widened by its rounding band, so a ray
+ * through an edge of the scene box is not lost to rounding either. */
+TT_HD int tt_kd_box_interval(const tt_kd_aug *a, const tt_wray *r, const tt_kd_band *band,
+                             float *ta, float *tb)
 {
     float t0 = r->tmin, t1 = TT_INF;
     for (int k = 0; k < 3; k++) {
@@ -28,10 +59,15 @@ TT_HD int tt_kd_box_interval(const tt_kd_aug *a, const tt_wray *r, float *ta, fl
             if (!(o >= lo && o <= hi)) return 0;
             continue;
         }
-        const float tl = (lo - o) * r->inv[k], th = (hi - o) * r->inv[k];
         const int neg = r->dir[k] < 0.0f;
-        t0 = fmaxf(t0, neg ? th : tl);
-        t1 = fminf(t1, neg ? tl : th);
+        const float fnear = neg ? hi : lo, ffar = neg ? lo : hi;
+        float tn = (fnear - o) * r->inv[k], tf = (ffar - o) * r->inv[k];
+        if (band) {
+            tn -= fabsf(fnear) * band->bi[k] + band->bo[k];
+            tf += fabsf(ffar) * band->bi[k] + band->bo[k];
+        }
+        t0 = fmaxf(t0, tn);
+        t1 = fminf(t1, tf);
     }
     if (!(t0 <= t1 && t0 < r->tmax)) return 0;
     *ta = t0;
@@ -40,9 +76,10 @@ TT_HD int tt_kd_box_interval(const tt_kd_aug *a, const tt_wray *r, float *ta, fl
 }
 
 /* The same for the scene box (aug[0]); an empty tree is never hit. */
-TT_HD int tt_kd_root_interval(const tt_kd_view *T, const tt_wray *r, float *ta, float *tb)
+TT_HD int tt_kd_root_interval(const tt_kd_view *T, const tt_wray *r, const tt_kd_band *band,
+                              float *ta, float *tb)
 {
-    return !T->empty && tt_kd_box_interval(&T->aug[0], r, ta, tb);
+    return !T->empty && tt_kd_box_interval(&T->aug[0], r, band, ta, tb);
 }
 
 /* Where the ray leaves a sparse box (the ray is known to be in it). */
@@ -57,19 +94,17 @@ TT_HD float tt_kd_box_exit(const tt_kd_aug *a, const tt_wray *r)
     return t;
 }
 
-/* Whether a traversal may start in this box: its closed box holds the
- * origin, and strictly so across the axes the ray does not move along (a
- * ray lying in a face of the box also runs along the neighbouring cell,
- * which a traversal started inside the box would never see). */
+/* Whether a traversal may start in this box: the origin lies strictly
+ * inside it. An origin on a face also lies in the neighbouring cell behind
+ * that face (a triangle through the origin may be there alone, hit at
+ * t = 0), and a ray lying in a face runs along the neighbour for its whole
+ * length; a traversal started inside the box would see neither, so such a
+ * ray starts higher up, where that face is an interior split plane. */
 TT_HD int tt_kd_box_holds_origin(const tt_kd_aug *a, const tt_wray *r)
 {
     for (int k = 0; k < 3; k++) {
-        const float lo = TT_LDG(&a->lo[k]), hi = TT_LDG(&a->hi[k]), o = r->org[k];
-        if (r->dir[k] == 0.0f) {
-            if (!(o > lo && o < hi)) return 0;
-        } else if (!(o >= lo && o <= hi)) {
-            return 0;
-        }
+        const float o = r->org[k];
+        if (!(o > TT_LDG(&a->lo[k]) && o < TT_LDG(&a->hi[k]))) return 0;
     }
     return 1;
 }

@@ -57,10 +57,13 @@ TT_HD int TT_VARIANT(tt_kd_probe)(const tt_kd_view *T, int traversal, const tt_w
     (void)stats;
     if (caster == 0 || caster >= T->aug_count) return 0;
     TT_COUNT(stats, boxes, 1);
-    if (T->empty || !tt_kd_box_interval(&T->aug[caster], r, &ta, &tb)) return 0;
-    if (traversal == TT_KD_SLTR || traversal == TT_KD_SEQ)
-        return TT_VARIANT(tt_kd_sltr_pass)(T, r, 1, caster, ta, tb, caster, 0, &ties, best, end,
+    if (T->empty || !tt_kd_box_interval(&T->aug[caster], r, NULL, &ta, &tb)) return 0;
+    if (traversal == TT_KD_SLTR || traversal == TT_KD_SEQ) {
+        tt_kd_order ord;
+        tt_kd_order_init(&ord, 0);
+        return TT_VARIANT(tt_kd_sltr_pass)(T, r, 1, &ord, caster, ta, caster, &ties, best, end,
                                            stats);
+    }
     return TT_VARIANT(tt_kd_btr_from)(T, r, 1, caster, ta, tb, caster, best, end, stats);
 }
 

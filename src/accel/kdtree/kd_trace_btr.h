@@ -1,15 +1,16 @@
 /* BTR: bottom-up traversal with a stack (Havran & Bittner, Algorithm 2). A
  * template (see accel/stats_variant.h); include kd_trace_common.h first.
  *
- * A round is a stack traversal (as HTR) of one augmented node's subtree
- * over the ray's interval inside its box. The first round starts in the
- * hinted node (or the nearest augmented ancestor holding the origin); when
- * a round ends without a hit closer than its box exit, the ray continues
- * from the nearest augmented ancestor whose box it has not yet left, the
- * new round starting exactly at the previous box's exit (see kd_ray.h: box
- * faces and split planes give identical distances). In such a restart the
- * cell behind a plane crossed exactly at that entry distance was covered
- * by the previous round and is skipped, so no leaf is visited twice. */
+ * A round is a stack traversal (exactly HTR's, rounding band included) of
+ * one augmented node's subtree over the ray's interval inside its box. The
+ * first round starts in the hinted node (or the nearest augmented ancestor
+ * holding the origin). When a round ends without a hit closer than its box
+ * exit, the ray continues from the nearest augmented ancestor whose box it
+ * has not yet left, over [previous exit, ancestor's exit]: the paper's
+ * TraverseUp. Instead of the paper's epsilon shift of the entry point, the
+ * new round never enters the subtree the previous round covered; it still
+ * visits the cells around the exit point outside that subtree, so a ray
+ * leaving a box through an edge or corner misses none of them. */
 
 /* Rounds from augmented node `start` on [ta, tb], climbing no higher than
  * `stop` (TT_KD_NO_PARENT: up to the root). */
@@ -21,8 +22,10 @@ TT_HD int TT_VARIANT(tt_kd_btr_from)(const tt_kd_view *T, const tt_wray *r, int 
         uint32_t node, aug;
         float ta, tb;
     } stack[TT_KD_STACK];
+    tt_kd_band band;
     (void)stats;
-    float restart = -TT_INF; /* the entry distance of a restarted round */
+    tt_kd_band_init(&band, r);
+    uint32_t done = TT_KD_NO_PARENT; /* the node the previous round covered */
     for (;;) {
         const float round_tb = tb;
         uint32_t node = T->aug[start].node, aug = start;
@@ -30,6 +33,7 @@ TT_HD int TT_VARIANT(tt_kd_btr_from)(const tt_kd_view *T, const tt_wray *r, int 
         for (;;) {
             tt_kd_node n = T->nodes[node];
             while (!tt_kd_is_leaf(n.bits)) {
+                if (node == done) goto next; /* covered by the previous round */
                 TT_COUNT(stats, interior, 1);
                 TT_COUNT(stats, nodes, 1);
                 if (tt_kd_is_aug(n.bits)) aug = tt_kd_aug_index(T->nodes, node);
@@ -50,19 +54,20 @@ TT_HD int TT_VARIANT(tt_kd_btr_from)(const tt_kd_view *T, const tt_wray *r, int 
                     }
                 } else {
                     const float ts = (n.u.split - r->org[k]) * r->inv[k];
+                    const float e = fabsf(n.u.split) * band.bi[k] + band.bo[k];
                     const uint32_t first = d < 0.0f ? right : left, second = d < 0.0f ? left : right;
-                    if (ts < ta || ts == restart) {
+                    if (ts + e < ta) {
                         node = second;
-                    } else if (ts > tb) {
+                    } else if (ts - e > tb) {
                         node = first;
                     } else {
                         stack[sp].node = second;
                         stack[sp].aug = aug;
-                        stack[sp].ta = ts;
+                        stack[sp].ta = fmaxf(ta, ts - e);
                         stack[sp].tb = tb;
                         sp++;
                         node = first;
-                        tb = ts;
+                        tb = fminf(tb, ts + e);
                     }
                 }
                 n = T->nodes[node];
@@ -72,6 +77,7 @@ TT_HD int TT_VARIANT(tt_kd_btr_from)(const tt_kd_view *T, const tt_wray *r, int 
                 return 1;
             }
             if (best->t <= tb) *end = aug;
+        next:
             do {
                 if (sp == 0) goto round_done;
                 sp--;
@@ -92,8 +98,9 @@ TT_HD int TT_VARIANT(tt_kd_btr_from)(const tt_kd_view *T, const tt_wray *r, int 
             const float e = tt_kd_box_exit(&T->aug[a], r);
             if (round_tb < e) {
                 found = 1;
+                done = T->aug[start].node;
                 start = a;
-                restart = ta = round_tb;
+                ta = round_tb;
                 tb = e;
             }
         }
@@ -106,8 +113,10 @@ TT_HD int TT_VARIANT(tt_kd_btr)(const tt_kd_view *T, const tt_wray *r, int any, 
 {
     float ta, tb;
     unsigned tests = 1;
+    tt_kd_band band;
     (void)stats;
-    if (!tt_kd_root_interval(T, r, &ta, &tb)) {
+    tt_kd_band_init(&band, r);
+    if (!tt_kd_root_interval(T, r, &band, &ta, &tb)) {
         TT_COUNT(stats, boxes, tests);
         return 0;
     }

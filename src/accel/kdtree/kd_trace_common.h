@@ -33,6 +33,69 @@ TT_HD void tt_kd_best_store(const tt_kd_best *b, tt_hit *hit)
     hit->v = b->v;
     hit->prim = b->prim;
 }
+
+/* The stackless traversals move from cell to cell by plane crossings
+ * compared as keys: the distance t, then, for planes crossed at exactly
+ * the same t, the pass's rank of the plane's axis (as if the ray were
+ * displaced a tiny bit so that the crossings happen in that order), then,
+ * for parallel planes at the same t (rounding), their order along the ray.
+ * The keys are a total order, so a traversal never loops, and every pass
+ * order together visit every cell around a point where planes meet. Rank
+ * -1 marks the ray's start, before any crossing at the same t. */
+typedef struct tt_kd_key {
+    float t;
+    int rank;
+    float pos; /* plane position, negated for a ray going down its axis */
+} tt_kd_key;
+
+#define TT_KD_CORNER_TIE 8u /* in *ties: equal crossings needed the ranks */
+
+/* Whether crossing a comes after crossing b. A comparison of two planes of
+ * different axes crossed at exactly the same t is decided by the pass's
+ * ranks, which only one of the orders follows: it sets TT_KD_CORNER_TIE in
+ * *ties so that the other orders are traced too. */
+TT_HD int tt_kd_key_after(const tt_kd_key *a, const tt_kd_key *b, unsigned *ties)
+{
+    if (a->t != b->t) return a->t > b->t;
+    if (a->rank != b->rank) {
+        if (a->rank >= 0 && b->rank >= 0) *ties |= TT_KD_CORNER_TIE;
+        return a->rank > b->rank;
+    }
+    return a->pos > b->pos;
+}
+
+/* A pass: the side taken in split planes the ray lies in, per axis, and the
+ * ranks of the axes for crossings at equal distances. */
+typedef struct tt_kd_order {
+    unsigned sides;
+    int rank[3];
+} tt_kd_order;
+
+/* Pass p (0 .. 47): sides p & 7, axis ranks the (p >> 3)-th permutation. */
+TT_HD void tt_kd_order_init(tt_kd_order *o, unsigned p)
+{
+    const unsigned perm = (p >> 3) % 6u;
+    const int first = (int)(perm / 2u), second = (first + 1 + (int)(perm % 2u)) % 3;
+    o->sides = p & 7u;
+    o->rank[first] = 0;
+    o->rank[second] = 1;
+    o->rank[3 - first - second] = 2;
+}
+
+/* Where the ray leaves a sparse box, as a key: the earliest face crossing. */
+TT_HD tt_kd_key tt_kd_box_exit_key(const tt_kd_aug *a, const tt_wray *r, const tt_kd_order *o,
+                                   unsigned *ties)
+{
+    tt_kd_key best = {TT_INF, 3, 0.0f};
+    for (int k = 0; k < 3; k++) {
+        if (r->dir[k] == 0.0f) continue;
+        const int neg = r->dir[k] < 0.0f;
+        const float face = neg ? TT_LDG(&a->lo[k]) : TT_LDG(&a->hi[k]);
+        tt_kd_key c = {(face - r->org[k]) * r->inv[k], o->rank[k], neg ? -face : face};
+        if (tt_kd_key_after(&best, &c, ties)) best = c;
+    }
+    return best;
+}
 #endif
 
 /* Tests a leaf's triangles. Closest hit (any == 0): narrows *best, returns
@@ -61,49 +124,57 @@ TT_HD int TT_VARIANT(tt_kd_leaf)(const tt_kd_view *T, tt_kd_node leaf, const tt_
     return 0;
 }
 
-/* Descends from *node to the leaf where the ray continues after tentry
- * (the "first intersected child" of Algorithm 3; Kaplan's point location
- * done on the ray rather than on a shifted point, so no epsilon is needed):
- * a child is taken first when the ray is in it just after tentry. *texit
- * shrinks to the leaf's exit. The first descent of a ray is inclusive (a
- * plane crossed exactly at tentry, e.g. through the origin, still lets the
- * ray visit the near cell, of zero length); later descents start at a
- * previous leaf's exit and must be strict to move on.
+/* Descends from *node to the leaf the ray enters after *tentry (the "first
+ * intersected child" of Algorithm 3; Kaplan's point location done on the
+ * ray rather than on a shifted point, so no epsilon is needed): at each
+ * split, the child the ray meets first is taken when the ray crosses the
+ * plane after tentry. *texit shrinks to the leaf's exit.
+ *
+ * Crossings are compared as keys (see tt_kd_key): equal distances are
+ * ordered by the pass's axis ranks, so a ray through an edge or corner of
+ * the tree (an origin on several split planes) moves through the cells
+ * around it in a definite order; *ties records that such an order was
+ * needed, and the caller runs passes with the other orders.
  *
  * A ray lying in a split plane (dir_k == 0, org_k == split) runs along both
- * children; a stackless traversal takes the side `rule` names for that axis
- * (bit k: 0 left, 1 right) and records the axis in *ties, and the caller
- * traces the other side in a second pass. *last and *tup follow the deepest
- * augmented node passed (Algorithm 3's lastAugmentedNode and t_up). */
-TT_HD tt_kd_node TT_VARIANT(tt_kd_descend)(const tt_kd_view *T, const tt_wray *r, uint32_t *node,
-                                           float tentry, float *texit, int inclusive,
-                                           unsigned rule, unsigned *ties, uint32_t *last,
-                                           float *tup, tt_ray_stats *stats)
+ * children; the pass takes the side its sides mask names for that axis
+ * (bit k: 0 left, 1 right) and records the axis in *ties.
+ *
+ * *last and *tup follow the deepest augmented node passed (Algorithm 3's
+ * lastAugmentedNode and t_up). */
+TT_HD tt_kd_node TT_VARIANT(tt_kd_descend)(const tt_kd_view *T, const tt_wray *r,
+                                           const tt_kd_order *ord, uint32_t *node,
+                                           const tt_kd_key *tentry, tt_kd_key *texit,
+                                           unsigned *ties, uint32_t *last, tt_kd_key *tup,
+                                           tt_ray_stats *stats)
 {
     uint32_t i = *node;
     tt_kd_node n = T->nodes[i];
-    float te = *texit;
+    tt_kd_key te = *texit;
     (void)stats;
     while (!tt_kd_is_leaf(n.bits)) {
         TT_COUNT(stats, interior, 1);
         TT_COUNT(stats, nodes, 1);
         const int k = tt_kd_axis(n.bits);
         const uint32_t left = tt_kd_left(i, n.bits), right = tt_kd_right(n.bits);
-        if (r->dir[k] == 0.0f) {
+        const float d = r->dir[k];
+        if (d == 0.0f) {
             if (r->org[k] < n.u.split) i = left;
             else if (r->org[k] > n.u.split) i = right;
             else {
                 *ties |= 1u << k;
-                i = ((rule >> k) & 1u) ? right : left;
+                i = ((ord->sides >> k) & 1u) ? right : left;
             }
         } else {
-            const float ts = (n.u.split - r->org[k]) * r->inv[k];
-            const int neg = r->dir[k] < 0.0f;
-            if (ts > tentry || (inclusive && ts == tentry)) {
-                i = neg ? right : left;
-                te = fminf(te, ts);
+            tt_kd_key c;
+            c.t = (n.u.split - r->org[k]) * r->inv[k];
+            c.rank = ord->rank[k];
+            c.pos = d < 0.0f ? -n.u.split : n.u.split;
+            if (tt_kd_key_after(&c, tentry, ties)) {
+                i = d < 0.0f ? right : left;
+                if (tt_kd_key_after(&te, &c, ties)) te = c;
             } else {
-                i = neg ? left : right;
+                i = d < 0.0f ? left : right;
             }
         }
         n = T->nodes[i];

@@ -2,14 +2,16 @@
  * Algorithm 1), front to back from the root. A template (see
  * accel/stats_variant.h); include kd_trace_common.h first.
  *
- * At a node with the ray on [ta, tb] and the plane crossed at ts, the child
- * the ray meets first is visited when ts >= ta and the other when ts <= tb:
- * both comparisons inclusive, so a ray crossing a plane exactly at a cell
- * boundary (an origin on a split plane, a ray through an edge of the tree)
- * also visits the zero-length cell there. A ray lying in the split plane
- * visits both children over its whole interval. Stack entries whose
- * interval begins at or beyond the closest hit so far are dropped; with
- * front-to-back order that ends the traversal right after the hit's cell. */
+ * At a node with the ray on [ta, tb] and the plane crossed at ts +- e (e:
+ * the rounding band of kd_ray.h), the child the ray meets first is visited
+ * on [ta, min(tb, ts + e)] if that is not empty, the other on
+ * [max(ta, ts - e), tb]: both inclusive, so a ray crossing a plane exactly
+ * or nearly at a cell boundary (an origin on a split plane, a ray through an
+ * edge or a vertex of the tree) also visits the thin cell there. A ray
+ * lying in the split plane visits both children over its whole interval.
+ * Stack entries whose interval begins at or beyond the closest hit so far
+ * are dropped; with front-to-back order that ends the traversal right after
+ * the hit's cell. */
 
 TT_HD int TT_VARIANT(tt_kd_htr)(const tt_kd_view *T, const tt_wray *r, int any, tt_kd_best *best,
                                 tt_ray_stats *stats)
@@ -21,7 +23,9 @@ TT_HD int TT_VARIANT(tt_kd_htr)(const tt_kd_view *T, const tt_wray *r, int any, 
     float ta, tb;
     (void)stats;
     TT_COUNT(stats, boxes, 1);
-    if (!tt_kd_root_interval(T, r, &ta, &tb)) return 0;
+    tt_kd_band band;
+    tt_kd_band_init(&band, r);
+    if (!tt_kd_root_interval(T, r, &band, &ta, &tb)) return 0;
     int sp = 0;
     uint32_t node = 0;
     for (;;) {
@@ -45,18 +49,19 @@ TT_HD int TT_VARIANT(tt_kd_htr)(const tt_kd_view *T, const tt_wray *r, int any, 
                 }
             } else {
                 const float ts = (n.u.split - r->org[k]) * r->inv[k];
+                const float e = fabsf(n.u.split) * band.bi[k] + band.bo[k];
                 const uint32_t first = d < 0.0f ? right : left, second = d < 0.0f ? left : right;
-                if (ts < ta) {
+                if (ts + e < ta) {
                     node = second;
-                } else if (ts > tb) {
+                } else if (ts - e > tb) {
                     node = first;
                 } else {
                     stack[sp].node = second;
-                    stack[sp].ta = ts;
+                    stack[sp].ta = fmaxf(ta, ts - e);
                     stack[sp].tb = tb;
                     sp++;
                     node = first;
-                    tb = ts;
+                    tb = fminf(tb, ts + e);
                 }
             }
             n = T->nodes[node];

@@ -3,53 +3,53 @@
  * accel/stats_variant.h); include kd_trace_common.h first.
  *
  * Both find one leaf at a time by a descent (tt_kd_descend) and move on
- * from that leaf's exit distance: SLTR restarts the descent from the cached
- * last augmented node while the ray is still inside its box (t_up), else
- * from the nearest augmented ancestor whose box the ray has not yet left;
- * SEQ restarts from the root every time (after a first descent from the
- * start node). The exit distance of a leaf and the entry of the next are
- * the same number, so there is no epsilon shift and no leaf is skipped or
- * repeated.
+ * from that leaf's exit: SLTR restarts the descent from the cached last
+ * augmented node while the ray is still inside its box (t_up), else from
+ * the nearest augmented ancestor whose box the ray has not yet left; SEQ
+ * restarts from the root every time (after a first descent from the start
+ * node). A leaf's exit and the next entry are the same key, so there is no
+ * epsilon shift and no leaf is skipped or repeated.
  *
- * A ray lying in a split plane belongs to both sides of it, which a single
- * stackless pass cannot visit; such a ray is traced once per combination of
- * sides for the tied axes (at most 2 axes, 4 passes; only rays with zero
- * direction components can tie), the passes sharing the closest hit. */
+ * A single stackless pass follows one path through the cells. Where the
+ * ray meets several cells at once (it lies in a split plane, or passes
+ * exactly through an edge or corner of the tree, e.g. from an origin on
+ * several split planes) a pass sees only some of them, so such a ray is
+ * traced once per way of ordering the tie (see tt_kd_order), the passes
+ * sharing the closest hit. Only rays that meet an exact tie pay for more
+ * than one pass. */
 
-/* One SLTR pass from start node `start` on [ta, tb], climbing no higher
- * than `stop` (TT_KD_NO_PARENT: up to the root). Returns 1 on an any-hit. */
+/* One SLTR pass from augmented node `start`, entering at ta, climbing no
+ * higher than `stop` (TT_KD_NO_PARENT: up to the root). 1 on an any-hit. */
 TT_HD int TT_VARIANT(tt_kd_sltr_pass)(const tt_kd_view *T, const tt_wray *r, int any,
-                                      uint32_t start, float ta, float tb, uint32_t stop,
-                                      unsigned rule,
-                                      unsigned *ties, tt_kd_best *best, uint32_t *end,
-                                      tt_ray_stats *stats)
+                                      const tt_kd_order *ord, uint32_t start, float ta,
+                                      uint32_t stop, unsigned *ties, tt_kd_best *best,
+                                      uint32_t *end, tt_ray_stats *stats)
 {
     uint32_t last = start;
-    float tup = tb, tentry = ta;
-    int inclusive = 1;
+    tt_kd_key tup = tt_kd_box_exit_key(&T->aug[start], r, ord, ties);
+    tt_kd_key tentry = {ta, -1, -TT_INF};
     for (;;) {
         uint32_t node = T->aug[last].node;
-        float texit = tup;
-        tt_kd_node leaf = TT_VARIANT(tt_kd_descend)(T, r, &node, tentry, &texit, inclusive, rule,
-                                                    ties, &last, &tup, stats);
+        tt_kd_key texit = tup;
+        tt_kd_node leaf = TT_VARIANT(tt_kd_descend)(T, r, ord, &node, &tentry, &texit, ties, &last,
+                                                    &tup, stats);
         if (TT_VARIANT(tt_kd_leaf)(T, leaf, r, any, best, stats)) {
             *end = last;
             return 1;
         }
-        if (best->t <= texit) {
+        if (best->t <= texit.t) {
             if (best->prim != TT_INVALID_ID) *end = last;
             return 0;
         }
         tentry = texit;
-        inclusive = 0;
-        if (tentry < tup) continue; /* still inside the last augmented box */
+        if (tt_kd_key_after(&tup, &tentry, ties)) continue; /* still inside the last box */
         int found = 0;
         uint32_t a = last;
         while (!found && a != stop && T->aug[a].parent != TT_KD_NO_PARENT) {
             a = T->aug[a].parent;
             TT_COUNT(stats, boxes, 1);
-            const float e = tt_kd_box_exit(&T->aug[a], r);
-            if (tentry < e) {
+            const tt_kd_key e = tt_kd_box_exit_key(&T->aug[a], r, ord, ties);
+            if (tt_kd_key_after(&e, &tentry, ties)) {
                 found = 1;
                 last = a;
                 tup = e;
@@ -59,37 +59,37 @@ TT_HD int TT_VARIANT(tt_kd_sltr_pass)(const tt_kd_view *T, const tt_wray *r, int
     }
 }
 
-/* One SEQ pass: the first descent from `start` on [ta, tb], every later
- * one from the root on [tentry, root_tb]. */
+/* One SEQ pass: the first descent from `start`, every later one from the
+ * root. */
 TT_HD int TT_VARIANT(tt_kd_seq_pass)(const tt_kd_view *T, const tt_wray *r, int any,
-                                     uint32_t start, float ta, float tb, float root_tb,
-                                     unsigned rule, unsigned *ties, tt_kd_best *best,
-                                     uint32_t *end, tt_ray_stats *stats)
+                                     const tt_kd_order *ord, uint32_t start, float ta,
+                                     unsigned *ties, tt_kd_best *best, uint32_t *end,
+                                     tt_ray_stats *stats)
 {
+    const tt_kd_key root_exit = tt_kd_box_exit_key(&T->aug[0], r, ord, ties);
     uint32_t node = T->aug[start].node, last = start;
-    float tentry = ta, texit = tb, tup = tb;
-    int inclusive = 1;
+    tt_kd_key tentry = {ta, -1, -TT_INF};
+    tt_kd_key texit = tt_kd_box_exit_key(&T->aug[start], r, ord, ties), tup = texit;
     for (;;) {
-        tt_kd_node leaf = TT_VARIANT(tt_kd_descend)(T, r, &node, tentry, &texit, inclusive, rule,
-                                                    ties, &last, &tup, stats);
+        tt_kd_node leaf = TT_VARIANT(tt_kd_descend)(T, r, ord, &node, &tentry, &texit, ties, &last,
+                                                    &tup, stats);
         if (TT_VARIANT(tt_kd_leaf)(T, leaf, r, any, best, stats)) {
             *end = last;
             return 1;
         }
-        if (best->t <= texit) {
+        if (best->t <= texit.t) {
             if (best->prim != TT_INVALID_ID) *end = last;
             return 0;
         }
-        if (!(texit < root_tb)) return 0; /* left the scene */
+        if (!tt_kd_key_after(&root_exit, &texit, ties)) return 0; /* left the scene */
         tentry = texit;
-        inclusive = 0;
         node = 0;
         last = 0;
-        texit = root_tb;
+        texit = root_exit;
     }
 }
 
-/* The passes over tied sides (see above), for SLTR (seq == 0) or SEQ. */
+/* The passes (see above), for SLTR (seq == 0) or SEQ. */
 TT_HD int TT_VARIANT(tt_kd_stackless)(const tt_kd_view *T, const tt_wray *r, int any, int seq,
                                       uint32_t hint, tt_kd_best *best, uint32_t *end,
                                       tt_ray_stats *stats)
@@ -97,25 +97,26 @@ TT_HD int TT_VARIANT(tt_kd_stackless)(const tt_kd_view *T, const tt_wray *r, int
     float ta, tb;
     unsigned tests = 1;
     (void)stats;
-    if (!tt_kd_root_interval(T, r, &ta, &tb)) {
+    if (!tt_kd_root_interval(T, r, NULL, &ta, &tb)) {
         TT_COUNT(stats, boxes, tests);
         return 0;
     }
-    const float root_tb = tb;
     const uint32_t start = tt_kd_start_node(T, r, hint, &ta, &tb, &tests);
     TT_COUNT(stats, boxes, tests);
-    unsigned ties = 0, done = 0, rule = 0;
+    unsigned ties = 0, pass = 0;
+    uint64_t done = 0;
     for (;;) {
-        done |= 1u << rule;
-        int hit = seq ? TT_VARIANT(tt_kd_seq_pass)(T, r, any, start, ta, tb, root_tb, rule, &ties,
-                                                   best, end, stats)
-                      : TT_VARIANT(tt_kd_sltr_pass)(T, r, any, start, ta, tb, TT_KD_NO_PARENT,
-                                                    rule, &ties, best, end, stats);
+        tt_kd_order ord;
+        tt_kd_order_init(&ord, pass);
+        done |= (uint64_t)1 << pass;
+        int hit = seq ? TT_VARIANT(tt_kd_seq_pass)(T, r, any, &ord, start, ta, &ties, best, end, stats)
+                      : TT_VARIANT(tt_kd_sltr_pass)(T, r, any, &ord, start, ta, TT_KD_NO_PARENT,
+                                                    &ties, best, end, stats);
         if (hit) return 1;
-        /* The next combination of sides over the tied axes seen so far. */
-        unsigned m = 0;
-        while (m < 8 && ((m & ~ties) != 0 || ((done >> m) & 1u))) m++;
-        if (m == 8) return 0;
-        rule = m;
+        /* The next untried pass over the ties seen so far. */
+        const unsigned perms = (ties & TT_KD_CORNER_TIE) ? 6u : 1u;
+        for (pass = 0; pass < 8u * perms; pass++)
+            if ((pass & 7u & ~ties) == 0 && !((done >> pass) & 1u)) break;
+        if (pass == 8u * perms) return 0;
     }
 }
