@@ -26,6 +26,7 @@ TT_HD int TT_VARIANT(tt_kd_btr_from)(const tt_kd_view *T, const tt_wray *r, int 
     (void)stats;
     tt_kd_band_init(&band, r);
     uint32_t done = TT_KD_NO_PARENT; /* the node the previous round covered */
+    int reached = 0;                 /* *end is the leaf reaching the hit   */
     for (;;) {
         const float round_tb = tb;
         uint32_t node = T->aug[start].node, aug = start;
@@ -76,7 +77,13 @@ TT_HD int TT_VARIANT(tt_kd_btr_from)(const tt_kd_view *T, const tt_wray *r, int 
                 *end = aug;
                 return 1;
             }
-            if (best->t <= tb) *end = aug;
+            /* The ray ends in the first leaf that reaches its closest hit
+             * (or, when the hit lies a rounding error past the last leaf, on
+             * the scene box right behind the last one). */
+            if (best->prim != TT_INVALID_ID && (best->t <= tb || !reached)) {
+                *end = aug;
+                reached = best->t <= tb;
+            }
         next:
             do {
                 if (sp == 0) goto round_done;

@@ -37,10 +37,10 @@ TT_HD int TT_VARIANT(tt_kd_sltr_pass)(const tt_kd_view *T, const tt_wray *r, int
             *end = last;
             return 1;
         }
-        if (best->t <= texit.t) {
-            if (best->prim != TT_INVALID_ID) *end = last;
-            return 0;
-        }
+        /* The ray ends in this leaf's box (or, past the last leaf, on the
+         * scene box right behind it). */
+        if (best->prim != TT_INVALID_ID) *end = last;
+        if (best->t <= texit.t) return 0;
         tentry = texit;
         if (tt_kd_key_after(&tup, &tentry, ties)) continue; /* still inside the last box */
         int found = 0;
@@ -77,10 +77,10 @@ TT_HD int TT_VARIANT(tt_kd_seq_pass)(const tt_kd_view *T, const tt_wray *r, int 
             *end = last;
             return 1;
         }
-        if (best->t <= texit.t) {
-            if (best->prim != TT_INVALID_ID) *end = last;
-            return 0;
-        }
+        /* The ray ends in this leaf's box (or, past the last leaf, on the
+         * scene box right behind it). */
+        if (best->prim != TT_INVALID_ID) *end = last;
+        if (best->t <= texit.t) return 0;
         if (!tt_kd_key_after(&root_exit, &texit, ties)) return 0; /* left the scene */
         tentry = texit;
         node = 0;
