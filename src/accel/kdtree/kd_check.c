@@ -160,10 +160,19 @@ static int in_plane(double poly[][3], int n, int axis, double p)
     return 1;
 }
 
-static int reaches(double poly[][3], int n, int axis, double p, double sign)
+/* Whether the part reaches strictly into the half-space beyond the plane.
+ * The check's own clipping runs the planes in another order than the
+ * builder's, so a vertex the builder found exactly on the plane may come
+ * out here a double rounding error (around 2^-52 relative) beyond it: only
+ * reaching further than 2^-36 relative (to the plane's and the scene's
+ * coordinates) counts. (The builder rounds its
+ * float bounds outwards, so anything truly crossing by more than a float
+ * rounding error, 2^-24, is always placed on both sides.) */
+static int reaches(const check *c, double poly[][3], int n, int axis, double p, double sign)
 {
+    const double tol = ldexp(fabs(p), -36) + ldexp(c->tol[axis], -15);
     for (int i = 0; i < n; i++)
-        if (sign * (poly[i][axis] - p) > 0.0) return 1;
+        if (sign * (poly[i][axis] - p) > tol) return 1;
     return 0;
 }
 
@@ -190,8 +199,8 @@ static int complete(const check *c, uint32_t tri, uint32_t node, const cell *box
     uint32_t left = tt_kd_left(node, nd.bits), right = tt_kd_right(nd.bits);
     if (in_plane(poly, n, axis, p))
         return complete(c, tri, left, &l, pl, nl, bad) || complete(c, tri, right, &r, pr, nr, bad);
-    if (nl && reaches(pl, nl, axis, p, -1.0) && !complete(c, tri, left, &l, pl, nl, bad)) return 0;
-    if (nr && reaches(pr, nr, axis, p, 1.0) && !complete(c, tri, right, &r, pr, nr, bad)) return 0;
+    if (nl && reaches(c, pl, nl, axis, p, -1.0) && !complete(c, tri, left, &l, pl, nl, bad)) return 0;
+    if (nr && reaches(c, pr, nr, axis, p, 1.0) && !complete(c, tri, right, &r, pr, nr, bad)) return 0;
     return 1;
 }
 
