@@ -27,13 +27,13 @@ void kd_sweep(const kd_builder *b, const uint64_t *ev, size_t n_ev, uint32_t n,
     uint32_t nl = 0, nr = n;
     size_t i = 0;
     while (i < n_ev) {
+        /* All events at one position: ends, planars, starts (their order in
+         * the sorted list). */
         const uint32_t key = kd_event_poskey(ev[i]);
-        uint32_t ends = 0, planars = 0, starts = 0;
-        while (i < n_ev && kd_event_poskey(ev[i]) == key && kd_event_type(ev[i]) == KD_END) ends++, i++;
-        while (i < n_ev && kd_event_poskey(ev[i]) == key && kd_event_type(ev[i]) == KD_PLANAR)
-            planars++, i++;
-        while (i < n_ev && kd_event_poskey(ev[i]) == key && kd_event_type(ev[i]) == KD_START)
-            starts++, i++;
+        uint32_t count[4] = {0, 0, 0, 0};
+        do count[kd_event_type(ev[i++])]++;
+        while (i < n_ev && kd_event_poskey(ev[i]) == key);
+        const uint32_t ends = count[KD_END], planars = count[KD_PLANAR], starts = count[KD_START];
         nr -= planars + ends;
         const float p = kd_key_float(key);
         /* Only planes strictly inside the cell: a plane on a face would cut

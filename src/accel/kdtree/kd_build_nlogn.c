@@ -27,21 +27,37 @@ static uint64_t *axis_list(const nl_lists *l, int axis)
 }
 
 /* Marks every triangle of the node with its side of the split, from the
- * split axis' events alone (the rule of kd_classify, in event form). */
-static void classify(nl_state *s, const uint64_t *ev, size_t n_ev, const kd_split *sp)
+ * split axis' events alone (the rule of kd_classify, in event form), in one
+ * pass: a triangle's START comes before its END in the sorted list. Counts
+ * the one-sided triangles and lists the straddlers in s->ids. */
+static uint32_t classify(nl_state *s, const uint64_t *ev, size_t n_ev, const kd_split *sp,
+                         uint32_t *n_left, uint32_t *n_right)
 {
     const uint32_t pkey = kd_float_key(sp->pos);
-    for (size_t i = 0; i < n_ev; i++) s->side[kd_event_tri(ev[i])] = KD_SIDE_BOTH;
+    const uint8_t planar_side = sp->planar_left ? KD_SIDE_LEFT : KD_SIDE_RIGHT;
+    uint32_t nl = 0, nr = 0, nb = 0;
     for (size_t i = 0; i < n_ev; i++) {
-        uint32_t key = kd_event_poskey(ev[i]), type = kd_event_type(ev[i]), t = kd_event_tri(ev[i]);
-        if (type == KD_END && key <= pkey) s->side[t] = KD_SIDE_LEFT;
-        else if (type == KD_START && key >= pkey) s->side[t] = KD_SIDE_RIGHT;
-        else if (type == KD_PLANAR) {
-            if (key < pkey) s->side[t] = KD_SIDE_LEFT;
-            else if (key > pkey) s->side[t] = KD_SIDE_RIGHT;
-            else s->side[t] = sp->planar_left ? KD_SIDE_LEFT : KD_SIDE_RIGHT;
+        const uint32_t key = kd_event_poskey(ev[i]), type = kd_event_type(ev[i]), t = kd_event_tri(ev[i]);
+        if (type == KD_START) {
+            s->side[t] = key >= pkey ? KD_SIDE_RIGHT : KD_SIDE_BOTH;
+            nr += key >= pkey;
+        } else if (type == KD_END) {
+            if (key <= pkey) {
+                s->side[t] = KD_SIDE_LEFT;
+                nl++;
+            } else if (s->side[t] == KD_SIDE_BOTH) {
+                s->ids[nb++] = t;
+            }
+        } else {
+            uint8_t side = key < pkey ? KD_SIDE_LEFT : key > pkey ? KD_SIDE_RIGHT : planar_side;
+            s->side[t] = side;
+            nl += side == KD_SIDE_LEFT;
+            nr += side == KD_SIDE_RIGHT;
         }
     }
+    *n_left = nl;
+    *n_right = nr;
+    return nb;
 }
 
 /* Clips the straddlers to one child cell: their sorted events per axis in
@@ -63,32 +79,33 @@ static uint32_t reclip(nl_state *s, uint32_t nb, const tt_aabb *cell, uint64_t *
     return kept;
 }
 
-/* Builds one child's lists: the parent's events of triangles on that side
- * (order kept) merged with the re-clipped straddlers' events. */
-static int child_lists(nl_state *s, const nl_lists *parent, int side, const uint64_t *clipped,
-                       uint32_t nb, const size_t clen[3], nl_lists *child)
+/* Builds both children's lists in one pass over the parent's: the events
+ * of one-sided triangles (their order kept) merged with the re-clipped
+ * straddlers' events. Each child's run for an axis is sized for the worst
+ * case, two events per triangle, so the split needs no counting pass. */
+static int child_lists(nl_state *s, const nl_lists *parent, uint32_t n_left, uint32_t n_right,
+                       const uint64_t *lclip, const size_t llen[3], const uint64_t *rclip,
+                       const size_t rlen[3], uint32_t nb, nl_lists *left, nl_lists *right)
 {
-    size_t keep[3] = {0, 0, 0}, total = 0;
+    const size_t lcap = 2 * (size_t)n_left, rcap = 2 * (size_t)n_right;
+    left->block = tt_alloc_array(s->b->ctx, 3 * lcap, sizeof *left->block);
+    right->block = tt_alloc_array(s->b->ctx, 3 * rcap, sizeof *right->block);
+    if (!left->block || !right->block) return 0;
+    uint64_t *ldst = left->block, *rdst = right->block;
     for (int k = 0; k < 3; k++) {
         const uint64_t *ev = axis_list(parent, k);
-        for (size_t i = 0; i < parent->n[k]; i++) keep[k] += s->side[kd_event_tri(ev[i])] == side;
-        child->n[k] = keep[k] + clen[k];
-        total += child->n[k];
-    }
-    child->block = tt_alloc_array(s->b->ctx, total, sizeof *child->block);
-    if (!child->block) return 0;
-    uint64_t *dst = child->block;
-    for (int k = 0; k < 3; k++) {
-        const uint64_t *ev = axis_list(parent, k);
-        /* The kept events go to the tail of this axis' run, then merge
-         * forwards into its head: the write index never passes the read
-         * index of the tail, so no extra buffer is needed. */
-        uint64_t *tail = dst + clen[k];
-        size_t m = 0;
-        for (size_t i = 0; i < parent->n[k]; i++)
-            if (s->side[kd_event_tri(ev[i])] == side) tail[m++] = ev[i];
-        kd_merge_events(tail, keep[k], clipped + 2 * (size_t)nb * k, clen[k], dst);
-        dst += child->n[k];
+        size_t nl = 0, nr = 0;
+        for (size_t i = 0; i < parent->n[k]; i++) {
+            const uint8_t side = s->side[kd_event_tri(ev[i])];
+            if (side == KD_SIDE_LEFT) ldst[nl++] = ev[i];
+            else if (side == KD_SIDE_RIGHT) rdst[nr++] = ev[i];
+        }
+        kd_merge_in_place(ldst, nl, lclip + 2 * (size_t)nb * k, llen[k]);
+        kd_merge_in_place(rdst, nr, rclip + 2 * (size_t)nb * k, rlen[k]);
+        left->n[k] = nl + llen[k];
+        right->n[k] = nr + rlen[k];
+        ldst += left->n[k];
+        rdst += right->n[k];
     }
     return 1;
 }
@@ -111,15 +128,8 @@ static tt_status build(nl_state *s, nl_lists *lists, uint32_t n, const tt_aabb *
     }
     const uint64_t *ev = axis_list(lists, split.axis);
     const size_t n_ev = lists->n[split.axis];
-    classify(s, ev, n_ev, &split);
-    uint32_t nb = 0, nl = 0, nr = 0;
-    for (size_t i = 0; i < n_ev; i++) {
-        if (kd_event_type(ev[i]) == KD_END) continue; /* one START or PLANAR each */
-        uint32_t t = kd_event_tri(ev[i]);
-        if (s->side[t] == KD_SIDE_BOTH) s->ids[nb++] = t;
-        else if (s->side[t] == KD_SIDE_LEFT) nl++;
-        else nr++;
-    }
+    uint32_t nl, nr;
+    const uint32_t nb = classify(s, ev, n_ev, &split, &nl, &nr);
     tt_aabb lcell, rcell;
     kd_split_cell(cell, &split, &lcell, &rcell);
     /* Straddlers' events: left runs, right runs, sort scratch. */
@@ -133,8 +143,7 @@ static tt_status build(nl_state *s, nl_lists *lists, uint32_t n, const tt_aabb *
         size_t llen[3], rlen[3];
         nl += reclip(s, nb, &lcell, lclip, tmp, llen);
         nr += reclip(s, nb, &rcell, rclip, tmp, rlen);
-        if (!child_lists(s, lists, KD_SIDE_LEFT, lclip, nb, llen, &left) ||
-            !child_lists(s, lists, KD_SIDE_RIGHT, rclip, nb, rlen, &right))
+        if (!child_lists(s, lists, nl, nr, lclip, llen, rclip, rlen, nb, &left, &right))
             st = kd_oom(b);
     }
     tt_free(b->ctx, clip);

@@ -31,6 +31,11 @@ static void clip_plane(const poly *in, poly *out, int axis, double c, double sig
     }
 }
 
+/* fmin/fmax without NaN handling (none can occur here); the libm calls
+ * are a measurable part of the build otherwise. */
+static double dmin(double a, double b) { return a < b ? a : b; }
+static double dmax(double a, double b) { return a > b ? a : b; }
+
 static float round_down(double d)
 {
     float f = (float)d;
@@ -51,36 +56,45 @@ int kd_clip_polygon(const float *tri, const double lo[3], const double hi[3],
     for (int i = 0; i < 3; i++)
         for (int k = 0; k < 3; k++) a.v[i][k] = tri[3 * i + k];
     for (int k = 0; k < 3; k++) {
-        double tlo = fmin(fmin(a.v[0][k], a.v[1][k]), a.v[2][k]);
-        double thi = fmax(fmax(a.v[0][k], a.v[1][k]), a.v[2][k]);
+        double tlo = dmin(dmin(a.v[0][k], a.v[1][k]), a.v[2][k]);
+        double thi = dmax(dmax(a.v[0][k], a.v[1][k]), a.v[2][k]);
         if (thi < lo[k] || tlo > hi[k]) return 0;
     }
     /* Planes the triangle does not cross are skipped (exactly the same
-     * polygon, fewer rounding steps). */
+     * polygon, fewer rounding steps). The two polygons take turns. */
+    poly *cur = &a, *next = &b;
     for (int k = 0; k < 3; k++) {
         double tlo = INFINITY, thi = -INFINITY;
-        for (int i = 0; i < a.n; i++) {
-            tlo = fmin(tlo, a.v[i][k]);
-            thi = fmax(thi, a.v[i][k]);
+        for (int i = 0; i < cur->n; i++) {
+            tlo = dmin(tlo, cur->v[i][k]);
+            thi = dmax(thi, cur->v[i][k]);
         }
         if (tlo < lo[k]) {
-            clip_plane(&a, &b, k, lo[k], 1.0);
-            a = b;
+            clip_plane(cur, next, k, lo[k], 1.0);
+            poly *t = cur;
+            cur = next;
+            next = t;
         }
         if (thi > hi[k]) {
-            clip_plane(&a, &b, k, hi[k], -1.0);
-            a = b;
+            clip_plane(cur, next, k, hi[k], -1.0);
+            poly *t = cur;
+            cur = next;
+            next = t;
         }
-        if (a.n == 0) return 0;
+        if (cur->n == 0) return 0;
     }
-    memcpy(out, a.v, (size_t)a.n * sizeof a.v[0]);
-    return a.n;
+    memcpy(out, cur->v, (size_t)cur->n * sizeof cur->v[0]);
+    return cur->n;
 }
 
 int kd_clip_triangle(const float *tri, const tt_aabb *box, tt_aabb *out)
 {
-    tt_aabb tb = tt_aabb_empty();
-    for (int i = 0; i < 3; i++) tt_aabb_grow_point(&tb, tri + 3 * i);
+    tt_aabb tb;
+    for (int k = 0; k < 3; k++) {
+        float a = tri[k], b = tri[3 + k], c = tri[6 + k];
+        tb.lo[k] = a < b ? (a < c ? a : c) : (b < c ? b : c);
+        tb.hi[k] = a > b ? (a > c ? a : c) : (b > c ? b : c);
+    }
     int inside = 1;
     for (int k = 0; k < 3; k++) {
         if (tb.hi[k] < box->lo[k] || tb.lo[k] > box->hi[k]) return 0;
@@ -100,14 +114,15 @@ int kd_clip_triangle(const float *tri, const tt_aabb *box, tt_aabb *out)
     double plo[3] = {INFINITY, INFINITY, INFINITY}, phi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int i = 0; i < n; i++)
         for (int k = 0; k < 3; k++) {
-            plo[k] = fmin(plo[k], v[i][k]);
-            phi[k] = fmax(phi[k], v[i][k]);
+            plo[k] = dmin(plo[k], v[i][k]);
+            phi[k] = dmax(phi[k], v[i][k]);
         }
     for (int k = 0; k < 3; k++) {
         /* Interpolated coordinates may stray a rounding error outside the
          * box; the clamp keeps every candidate inside the cell. */
-        float l = fmaxf(round_down(plo[k]), box->lo[k]);
-        float h = fminf(round_up(phi[k]), box->hi[k]);
+        float l = round_down(plo[k]), h = round_up(phi[k]);
+        l = l > box->lo[k] ? l : box->lo[k];
+        h = h < box->hi[k] ? h : box->hi[k];
         if (l > h) l = h = (l > box->hi[k]) ? box->hi[k] : box->lo[k];
         out->lo[k] = l;
         out->hi[k] = h;

@@ -43,3 +43,34 @@ void kd_sort_events(uint64_t *keys, uint64_t *tmp, size_t n)
     }
     if (src != keys) memcpy(keys, src, n * sizeof *keys);
 }
+
+/* First index in a[0, n) whose key is greater than x. */
+static size_t upper_bound(const uint64_t *a, size_t n, uint64_t x)
+{
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (a[mid] <= x) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+void kd_merge_in_place(uint64_t *run, size_t n_run, const uint64_t *b, size_t n_b)
+{
+    if (n_b == 0) return;
+    if (n_b * 32 > n_run) {
+        /* Not that short: a plain merge from the run moved to the tail (the
+         * write index never passes the read index of the tail). */
+        memmove(run + n_b, run, n_run * sizeof *run);
+        kd_merge_events(run + n_b, n_run, b, n_b, run);
+        return;
+    }
+    size_t hi = n_run;
+    for (size_t j = n_b; j-- > 0;) {
+        size_t pos = upper_bound(run, hi, b[j]);
+        memmove(run + pos + j + 1, run + pos, (hi - pos) * sizeof *run);
+        run[pos + j] = b[j];
+        hi = pos;
+    }
+}
