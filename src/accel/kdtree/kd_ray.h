@@ -16,6 +16,12 @@
 #include "accel/kdtree/kd_layout.h"
 #include "geometry/ray.h"
 
+/* min / max as plain comparisons: fminf / fmaxf must honour NaN, which
+ * keeps compilers from using the single min / max instruction and makes
+ * them library calls in the traversal's inner loop. */
+TT_HD float tt_kd_min(float a, float b) { return a < b ? a : b; }
+TT_HD float tt_kd_max(float a, float b) { return a > b ? a : b; }
+
 /* The stack traversals widen every plane crossing by this much relative
  * uncertainty (see tt_kd_band): 2^-19, some 30 float rounding units. */
 #define TT_KD_BAND 1.9073486e-6f
@@ -66,8 +72,8 @@ TT_HD int tt_kd_box_interval(const tt_kd_aug *a, const tt_wray *r, const tt_kd_b
             tn -= fabsf(fnear) * band->bi[k] + band->bo[k];
             tf += fabsf(ffar) * band->bi[k] + band->bo[k];
         }
-        t0 = fmaxf(t0, tn);
-        t1 = fminf(t1, tf);
+        t0 = tt_kd_max(t0, tn);
+        t1 = tt_kd_min(t1, tf);
     }
     if (!(t0 <= t1 && t0 < r->tmax)) return 0;
     *ta = t0;
@@ -89,7 +95,7 @@ TT_HD float tt_kd_box_exit(const tt_kd_aug *a, const tt_wray *r)
     for (int k = 0; k < 3; k++) {
         if (r->dir[k] == 0.0f) continue;
         const float face = r->dir[k] < 0.0f ? TT_LDG(&a->lo[k]) : TT_LDG(&a->hi[k]);
-        t = fminf(t, (face - r->org[k]) * r->inv[k]);
+        t = tt_kd_min(t, (face - r->org[k]) * r->inv[k]);
     }
     return t;
 }

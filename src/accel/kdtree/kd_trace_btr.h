@@ -64,11 +64,11 @@ TT_HD int TT_VARIANT(tt_kd_btr_from)(const tt_kd_view *T, const tt_wray *r, int 
                     } else {
                         stack[sp].node = second;
                         stack[sp].aug = aug;
-                        stack[sp].ta = fmaxf(ta, ts - e);
+                        stack[sp].ta = tt_kd_max(ta, ts - e);
                         stack[sp].tb = tb;
                         sp++;
                         node = first;
-                        tb = fminf(tb, ts + e);
+                        tb = tt_kd_min(tb, ts + e);
                     }
                 }
                 n = T->nodes[node];
