@@ -1,0 +1,105 @@
+/* The packed R-tree of Feldmann (2015), section 4, shared by the CPU and the
+ * GPU traversals: the complete M-ary tree of height L + 1 numbered in level
+ * order (root 0, then its M child slots, ...), empty slots included, in one
+ * array. Navigation is pure index arithmetic:
+ *
+ *   Delta_L(l) = first slot of level l = sum_{i=0}^{L-l-1} M^i  (0 for l = L)
+ *   n_e(n)     = (n - Delta_L(l)) * M + Delta_L(l - 1)     first child
+ *   n_p(n)     = (n - Delta_L(l)) / M + Delta_L(l + 1)     parent
+ *   chi(n)     = (n - Delta_L(l)) mod M                    position in parent
+ *
+ * Storage of the slot array (all plain arrays, no pointers between nodes):
+ *  - box: the slots' boxes, structure of arrays per sibling group. Slot n
+ *    lives in group (n + M - 1) / M at position (n + M - 1) mod M: the root
+ *    alone in group 0 (position M - 1), and the M children of any node form
+ *    exactly one group, so a node's children are six contiguous runs of M
+ *    floats (lo x[M], lo y[M], lo z[M], hi x[M], hi y[M], hi z[M]) that the
+ *    ordered and stack traversals test together. An empty slot has all six
+ *    bounds +inf (a point at infinity: every slab test misses it) — that is
+ *    the "empty" mark.
+ *  - count: entries of every slot on levels >= 1 (slots 0 .. Delta_L(0)-1);
+ *    0 for an empty slot. A node's entries are always its first count
+ *    child slots.
+ *  - leaf_start: the triangles of leaf slot Delta_L(0) + j are
+ *    tri[leaf_start[j] .. leaf_start[j + 1]) (prefix sums over all M^L leaf
+ *    slots, so an empty leaf has an empty range).
+ *  - tri: the triangles' 9 floats in leaf order, a separate array rather than
+ *    inline in the slots: most leaf slots are empty (the complete tree is
+ *    much bigger than the real one), and inline storage would pay M * 36
+ *    bytes for each of them; separately the triangles cost exactly 36 bytes
+ *    each and a leaf's triangles are still contiguous.
+ *  - prim: the triangles' load-order ids, in leaf order.
+ * Indices are 32-bit; the builder refuses trees of 2^32 slots or more. */
+#ifndef TT_ACCEL_RTREE_PACKED_H
+#define TT_ACCEL_RTREE_PACKED_H
+
+#include <stdint.h>
+
+#include "geometry/aabb.h"
+#include "geometry/hd.h"
+#include "geometry/ray.h"
+
+/* At most 16 levels (L <= 15): with M >= 4 the slot count M^L already
+ * reaches 2^30 at L = 15, far beyond any memory budget. */
+#define TT_RT_MAX_LEVELS 16
+/* Entries of the traversal stacks: (L + 1) * M for every tree the packer
+ * accepts (it checks). */
+#define TT_RT_STACK_SIZE 160
+
+typedef struct tt_rtree_packed {
+    uint32_t M;                          /* entries per node                  */
+    uint32_t L;                          /* root level (leaves: level 0)      */
+    uint32_t m_shift;                    /* log2 M when M is a power of 2, else 0 */
+    uint32_t slots;                      /* N = (M^(L+1) - 1) / (M - 1)       */
+    uint32_t leaf_slots;                 /* M^L                               */
+    uint32_t triangles;
+    uint32_t delta[TT_RT_MAX_LEVELS + 1]; /* Delta_L(l), l = 0 .. L          */
+    const float *box;          /* 6 * M floats a group, groups = (N + M - 1) / M */
+    const uint8_t *count;      /* Delta_L(0) entries                            */
+    const uint32_t *leaf_start; /* leaf_slots + 1 entries                       */
+    const float *tri;          /* 9 floats a triangle, leaf order               */
+    const uint32_t *prim;      /* load-order id of each triangle, leaf order    */
+} tt_rtree_packed;
+
+/* Division and remainder by M: shifts for the usual powers of two. */
+TT_HD uint32_t tt_rt_div(const tt_rtree_packed *t, uint32_t x)
+{
+    return t->m_shift ? x >> t->m_shift : x / t->M;
+}
+TT_HD uint32_t tt_rt_mod(const tt_rtree_packed *t, uint32_t x)
+{
+    return t->m_shift ? x & (t->M - 1) : x % t->M;
+}
+
+/* The paper's index arithmetic (slot n on level l). */
+TT_HD uint32_t tt_rt_first_child(const tt_rtree_packed *t, uint32_t n, uint32_t l)
+{
+    return (n - t->delta[l]) * t->M + t->delta[l - 1];
+}
+TT_HD uint32_t tt_rt_parent(const tt_rtree_packed *t, uint32_t n, uint32_t l)
+{
+    return tt_rt_div(t, n - t->delta[l]) + t->delta[l + 1];
+}
+TT_HD uint32_t tt_rt_chi(const tt_rtree_packed *t, uint32_t n, uint32_t l)
+{
+    return tt_rt_mod(t, n - t->delta[l]);
+}
+
+/* The first float of slot n's group and n's position in it. */
+TT_HD const float *tt_rt_group(const tt_rtree_packed *t, uint32_t n, uint32_t *pos)
+{
+    uint32_t i = n + t->M - 1;
+    *pos = tt_rt_mod(t, i);
+    return t->box + (size_t)tt_rt_div(t, i) * 6 * t->M;
+}
+
+/* Slab test of the box at position pos of group g (see tt_ray_box). */
+TT_HD float tt_rt_box_test(const tt_wray *r, const float *g, uint32_t M, uint32_t pos,
+                           float tmax)
+{
+    float lo[3] = {TT_LDG(g + pos), TT_LDG(g + M + pos), TT_LDG(g + 2 * M + pos)};
+    float hi[3] = {TT_LDG(g + 3 * M + pos), TT_LDG(g + 4 * M + pos), TT_LDG(g + 5 * M + pos)};
+    return tt_ray_box(r, lo, hi, tmax);
+}
+
+#endif
