@@ -2,6 +2,7 @@
  * packed into the complete M-ary level-order array (rtree_pack.c), traced
  * by the stackless, ordered or stack traversal (rtree_trace*.h). */
 #include "accel/rtree/rtree.h"
+#include "accel/rtree/rtree_box.h"
 
 #include <math.h>
 #include <string.h>
@@ -80,8 +81,8 @@ static tt_status rtree_build(tt_accel *a)
         const float *v = scene->tri + 9 * (size_t)i;
         float *bx = tri_box + 6 * (size_t)i;
         for (int k = 0; k < 3; k++) {
-            bx[k] = fminf(fminf(v[k], v[3 + k]), v[6 + k]);
-            bx[k + 3] = fmaxf(fmaxf(v[k], v[3 + k]), v[6 + k]);
+            bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
+            bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
         }
     }
     rt_builder b;

@@ -8,6 +8,11 @@
 
 #include "geometry/hd.h"
 
+/* Plain comparisons: fminf/fmaxf are library calls unless the compiler may
+ * assume no NaNs; boxes here never hold NaN. */
+static inline float rt_min(float a, float b) { return a < b ? a : b; }
+static inline float rt_max(float a, float b) { return a > b ? a : b; }
+
 static inline void rt_box_empty(float b[6])
 {
     b[0] = b[1] = b[2] = TT_INF;
@@ -17,8 +22,8 @@ static inline void rt_box_empty(float b[6])
 static inline void rt_box_grow(float b[6], const float o[6])
 {
     for (int i = 0; i < 3; i++) {
-        b[i] = fminf(b[i], o[i]);
-        b[i + 3] = fmaxf(b[i + 3], o[i + 3]);
+        b[i] = rt_min(b[i], o[i]);
+        b[i + 3] = rt_max(b[i + 3], o[i + 3]);
     }
 }
 
@@ -38,7 +43,7 @@ static inline float rt_box_overlap(const float a[6], const float b[6])
 {
     float v = 1.0f;
     for (int i = 0; i < 3; i++) {
-        float e = fminf(a[i + 3], b[i + 3]) - fmaxf(a[i], b[i]);
+        float e = rt_min(a[i + 3], b[i + 3]) - rt_max(a[i], b[i]);
         if (e <= 0.0f) return 0.0f;
         v *= e;
     }

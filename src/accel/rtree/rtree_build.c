@@ -95,8 +95,8 @@ void rt_node_bounds(const rt_builder *b, uint32_t n, float out[6])
     rt_box_empty(out);
     for (int k = 0; k < 3; k++) {
         for (int i = 0; i < cnt; i++) {
-            out[k] = fminf(out[k], s[k * cap + i]);
-            out[k + 3] = fmaxf(out[k + 3], s[(k + 3) * cap + i]);
+            out[k] = rt_min(out[k], s[k * cap + i]);
+            out[k + 3] = rt_max(out[k + 3], s[(k + 3) * cap + i]);
         }
     }
 }
@@ -131,7 +131,20 @@ static void tighten(rt_builder *b, uint32_t n)
 
 /* ------------------------------------------------------ choose subtree */
 
-/* Keys are compared lexicographically; the last ones only break ties. */
+/* Which entry of node n (level > the insertion level) receives box e.
+ *
+ * Zero-volume boxes (a flat triangle, all of an axis-aligned planar scene)
+ * make every volume-based measure 0, so the volume and overlap criteria
+ * tie everywhere there; every volume-based key is therefore followed by the
+ * surface-area enlargement and the surface area, which keeps such builds
+ * as good as min-surface instead of degenerating to "the first entry".
+ * Keys, compared lexicographically:
+ *   min-surface, rstar-surface (interior): d surface, surface
+ *   min-volume, rstar (interior):          d volume, volume, d surface, surface
+ *   min-overlap (everywhere), rstar (above the leaves):
+ *                                          d overlap, d volume, volume, d surface, surface
+ *   rstar-surface (above the leaves):      d overlap, d surface, surface
+ * Surface areas are computed without the factor 2, which changes no order. */
 #define MAX_KEYS 5
 
 static int keys_less(const float *a, const float *b, int n)
@@ -143,13 +156,6 @@ static int keys_less(const float *a, const float *b, int n)
     return 0;
 }
 
-/* Which entry of node n (level > the insertion level) receives box e.
- *
- * Zero-volume boxes (a flat triangle, all of an axis-aligned planar scene)
- * make every volume-based measure 0, so the volume and overlap criteria
- * tie everywhere there; every volume-based key is therefore followed by the
- * surface-area enlargement and the surface area, which keeps such builds
- * as good as min-surface instead of degenerating to "the first entry". */
 static int choose_entry(const rt_builder *b, uint32_t n, const float e[6])
 {
     const rt_node_hdr *h = &b->hdr[n];
@@ -159,45 +165,68 @@ static int choose_entry(const rt_builder *b, uint32_t n, const float e[6])
     /* The R* variants minimise overlap only when choosing among leaves. */
     const int overlap = st == TT_RTREE_MIN_OVERLAP ||
                         (h->level == 1 && (st == TT_RTREE_RSTAR || st == TT_RTREE_RSTAR_SURFACE));
-    const int surface = st == TT_RTREE_MIN_SURFACE || st == TT_RTREE_RSTAR_SURFACE;
+    const int surface_only = st == TT_RTREE_MIN_SURFACE || st == TT_RTREE_RSTAR_SURFACE;
+    const float *lx = s, *ly = s + cap, *lz = s + 2 * cap;
+    const float *hx = s + 3 * cap, *hy = s + 4 * cap, *hz = s + 5 * cap;
+
+    if (!overlap) {
+        /* the hot path: one pass, no copies */
+        int best_i = 0;
+        float b0 = TT_INF, b1 = TT_INF, b2 = TT_INF, b3 = TT_INF;
+        for (int i = 0; i < cnt; i++) {
+            const float ex = hx[i] - lx[i], ey = hy[i] - ly[i], ez = hz[i] - lz[i];
+            const float ux = rt_max(hx[i], e[3]) - rt_min(lx[i], e[0]);
+            const float uy = rt_max(hy[i], e[4]) - rt_min(ly[i], e[1]);
+            const float uz = rt_max(hz[i], e[5]) - rt_min(lz[i], e[2]);
+            const float area = ex * ey + ey * ez + ez * ex;
+            const float darea = (ux * uy + uy * uz + uz * ux) - area;
+            if (surface_only) {
+                if (darea < b0 || (darea == b0 && area < b1)) {
+                    b0 = darea;
+                    b1 = area;
+                    best_i = i;
+                }
+            } else {
+                const float vol = ex * ey * ez, dvol = ux * uy * uz - vol;
+                float key[4] = {dvol, vol, darea, area}, best[4] = {b0, b1, b2, b3};
+                if (keys_less(key, best, 4)) {
+                    b0 = dvol;
+                    b1 = vol;
+                    b2 = darea;
+                    b3 = area;
+                    best_i = i;
+                }
+            }
+        }
+        return best_i;
+    }
 
     float ent[TT_RT_CAP][6], uni[TT_RT_CAP][6];
     for (int i = 0; i < cnt; i++) {
         rt_soa_get(s, cap, i, ent[i]);
         for (int k = 0; k < 3; k++) {
-            uni[i][k] = fminf(ent[i][k], e[k]);
-            uni[i][k + 3] = fmaxf(ent[i][k + 3], e[k + 3]);
+            uni[i][k] = rt_min(ent[i][k], e[k]);
+            uni[i][k + 3] = rt_max(ent[i][k + 3], e[k + 3]);
         }
     }
-
     float best[MAX_KEYS], key[MAX_KEYS];
-    int best_i = 0, nk = 0;
+    int best_i = 0;
     for (int i = 0; i < cnt; i++) {
-        nk = 0;
-        if (overlap) {
-            float d = 0.0f;
-            for (int j = 0; j < cnt; j++) {
-                if (j == i) continue;
-                d += rt_box_overlap(uni[i], ent[j]) - rt_box_overlap(ent[i], ent[j]);
-            }
-            key[nk++] = d;
+        int nk = 0;
+        float d = 0.0f;
+        for (int j = 0; j < cnt; j++) {
+            if (j == i) continue;
+            d += rt_box_overlap(uni[i], ent[j]) - rt_box_overlap(ent[i], ent[j]);
         }
-        float area = rt_box_area(ent[i]);
-        float darea = rt_box_area(uni[i]) - area;
-        if (surface && !(overlap && st == TT_RTREE_MIN_OVERLAP)) {
-            /* min-surface; rstar-surface everywhere (after overlap above
-             * the leaves: ties by the surface measures of the variant) */
-            key[nk++] = darea;
-            key[nk++] = area;
-        } else {
-            /* min-volume, rstar, min-overlap: volume, then the surface
-             * fallback for flat boxes */
-            float vol = rt_box_volume(ent[i]);
+        key[nk++] = d;
+        const float area = rt_box_area(ent[i]), darea = rt_box_area(uni[i]) - area;
+        if (st != TT_RTREE_RSTAR_SURFACE) {
+            const float vol = rt_box_volume(ent[i]);
             key[nk++] = rt_box_volume(uni[i]) - vol;
             key[nk++] = vol;
-            key[nk++] = darea;
-            key[nk++] = area;
         }
+        key[nk++] = darea;
+        key[nk++] = area;
         if (i == 0 || keys_less(key, best, nk)) {
             memcpy(best, key, sizeof best);
             best_i = i;
@@ -342,8 +371,8 @@ static tt_status insert_entry(rt_builder *b, const float e[6], uint32_t c, int l
         float *s = rt_node_box(b, n);
         const int cap = b->cap;
         for (int k = 0; k < 3; k++) {
-            s[k * cap + i] = fminf(s[k * cap + i], e[k]);
-            s[(k + 3) * cap + i] = fmaxf(s[(k + 3) * cap + i], e[k + 3]);
+            s[k * cap + i] = rt_min(s[k * cap + i], e[k]);
+            s[(k + 3) * cap + i] = rt_max(s[(k + 3) * cap + i], e[k + 3]);
         }
         n = rt_node_child(b, n)[i];
     }

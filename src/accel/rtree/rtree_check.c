@@ -146,8 +146,8 @@ static tt_status check_node(walk *w, uint32_t n, uint32_t l, float box[6])
                             "the scene's", n, id);
             for (int c = 0; c < 3; c++) {
                 for (int a = 0; a < 3; a++) {
-                    box[a] = fminf(box[a], v[3 * c + a]);
-                    box[a + 3] = fmaxf(box[a + 3], v[3 * c + a]);
+                    box[a] = rt_min(box[a], v[3 * c + a]);
+                    box[a + 3] = rt_max(box[a + 3], v[3 * c + a]);
                 }
             }
         }

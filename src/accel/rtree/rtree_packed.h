@@ -93,13 +93,31 @@ TT_HD const float *tt_rt_group(const tt_rtree_packed *t, uint32_t n, uint32_t *p
     return t->box + (size_t)tt_rt_div(t, i) * 6 * t->M;
 }
 
-/* Slab test of the box at position pos of group g (see tt_ray_box). */
+/* min/max as plain comparisons: fminf/fmaxf are library calls on the CPU
+ * unless the compiler may assume no NaNs, and no NaN arises here (the
+ * inverse direction is finite and nonzero, box bounds are finite or the
+ * +inf empty mark, so no 0 * inf and no inf - inf). */
+TT_HD float tt_rt_min(float a, float b) { return a < b ? a : b; }
+TT_HD float tt_rt_max(float a, float b) { return a > b ? a : b; }
+
+/* Slab test of the box at position pos of group g: exactly tt_ray_box
+ * (geometry/aabb.h), same operations in the same order, so the same
+ * conservative widening of the far distance holds. */
 TT_HD float tt_rt_box_test(const tt_wray *r, const float *g, uint32_t M, uint32_t pos,
                            float tmax)
 {
-    float lo[3] = {TT_LDG(g + pos), TT_LDG(g + M + pos), TT_LDG(g + 2 * M + pos)};
-    float hi[3] = {TT_LDG(g + 3 * M + pos), TT_LDG(g + 4 * M + pos), TT_LDG(g + 5 * M + pos)};
-    return tt_ray_box(r, lo, hi, tmax);
+    const float tx0 = (TT_LDG(g + pos) - r->org[0]) * r->inv[0];
+    const float ty0 = (TT_LDG(g + M + pos) - r->org[1]) * r->inv[1];
+    const float tz0 = (TT_LDG(g + 2 * M + pos) - r->org[2]) * r->inv[2];
+    const float tx1 = (TT_LDG(g + 3 * M + pos) - r->org[0]) * r->inv[0];
+    const float ty1 = (TT_LDG(g + 4 * M + pos) - r->org[1]) * r->inv[1];
+    const float tz1 = (TT_LDG(g + 5 * M + pos) - r->org[2]) * r->inv[2];
+    const float tnear = tt_rt_max(tt_rt_max(tt_rt_min(tx0, tx1), tt_rt_min(ty0, ty1)),
+                                  tt_rt_max(tt_rt_min(tz0, tz1), r->tmin));
+    float tfar = tt_rt_min(tt_rt_min(tt_rt_max(tx0, tx1), tt_rt_max(ty0, ty1)),
+                           tt_rt_max(tz0, tz1));
+    tfar *= 1.00000024f; /* 1 + 2 gamma(3), as in tt_ray_box */
+    return (tnear <= tfar && tnear < tmax) ? tnear : TT_INF;
 }
 
 #endif

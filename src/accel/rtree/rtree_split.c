@@ -41,41 +41,47 @@ void rt_split_rstar(const rt_builder *b, uint32_t n, uint8_t *group)
     for (int axis = 0; axis < 3; axis++) {
         float margin = 0.0f;
         /* the best distribution on this axis: (overlap, volume, surface) */
-        float ax_key[3] = {TT_INF, TT_INF, TT_INF};
+        float k0 = TT_INF, k1 = TT_INF, k2 = TT_INF;
         int ax_order[TT_RT_CAP], ax_k = m;
         for (int by_hi = 0; by_hi < 2; by_hi++) {
             int order[TT_RT_CAP];
             sort_entries(ent, cnt, axis, by_hi, order);
-            /* prefix[k]: the first k entries; suffix[k]: the rest */
+            /* prefix[k]: box of the first k entries; suffix[k]: of the rest */
             float prefix[TT_RT_CAP + 1][6], suffix[TT_RT_CAP + 1][6];
-            rt_box_empty(prefix[0]);
-            for (int k = 0; k < cnt; k++) {
-                memcpy(prefix[k + 1], prefix[k], sizeof prefix[0]);
-                rt_box_grow(prefix[k + 1], ent[order[k]]);
+            memcpy(prefix[1], ent[order[0]], sizeof prefix[1]);
+            for (int k = 1; k < cnt; k++) {
+                const float *e = ent[order[k]];
+                for (int c = 0; c < 3; c++) {
+                    prefix[k + 1][c] = rt_min(prefix[k][c], e[c]);
+                    prefix[k + 1][c + 3] = rt_max(prefix[k][c + 3], e[c + 3]);
+                }
             }
-            rt_box_empty(suffix[cnt]);
-            for (int k = cnt - 1; k >= 0; k--) {
-                memcpy(suffix[k], suffix[k + 1], sizeof suffix[0]);
-                rt_box_grow(suffix[k], ent[order[k]]);
+            memcpy(suffix[cnt - 1], ent[order[cnt - 1]], sizeof suffix[0]);
+            for (int k = cnt - 2; k >= m; k--) {
+                const float *e = ent[order[k]];
+                for (int c = 0; c < 3; c++) {
+                    suffix[k][c] = rt_min(suffix[k + 1][c], e[c]);
+                    suffix[k][c + 3] = rt_max(suffix[k + 1][c + 3], e[c + 3]);
+                }
             }
             for (int k = m; k <= cnt - m; k++) {
-                float a1 = rt_box_area(prefix[k]), a2 = rt_box_area(suffix[k]);
-                margin += a1 + a2;
-                float key[3] = {rt_box_overlap(prefix[k], suffix[k]),
-                                rt_box_volume(prefix[k]) + rt_box_volume(suffix[k]), a1 + a2};
-                int less = key[0] < ax_key[0] ||
-                           (key[0] == ax_key[0] &&
-                            (key[1] < ax_key[1] || (key[1] == ax_key[1] && key[2] < ax_key[2])));
-                if (less) {
-                    memcpy(ax_key, key, sizeof key);
-                    memcpy(ax_order, order, sizeof order);
+                const float area = rt_box_area(prefix[k]) + rt_box_area(suffix[k]);
+                margin += area;
+                const float ov = rt_box_overlap(prefix[k], suffix[k]);
+                if (ov > k0) continue;
+                const float vol = rt_box_volume(prefix[k]) + rt_box_volume(suffix[k]);
+                if (ov < k0 || vol < k1 || (vol == k1 && area < k2)) {
+                    k0 = ov;
+                    k1 = vol;
+                    k2 = area;
+                    memcpy(ax_order, order, (size_t)cnt * sizeof order[0]);
                     ax_k = k;
                 }
             }
         }
         if (margin < best_margin) {
             best_margin = margin;
-            memcpy(best_order, ax_order, sizeof best_order);
+            memcpy(best_order, ax_order, (size_t)cnt * sizeof ax_order[0]);
             best_k = ax_k;
         }
     }
