@@ -44,7 +44,7 @@ void rt_split_rstar(const rt_builder *b, uint32_t n, uint8_t *group)
         float k0 = TT_INF, k1 = TT_INF, k2 = TT_INF;
         int ax_order[TT_RT_CAP], ax_k = m;
         for (int by_hi = 0; by_hi < 2; by_hi++) {
-            int order[TT_RT_CAP];
+            int order[TT_RT_CAP] = {0};
             sort_entries(ent, cnt, axis, by_hi, order);
             /* prefix[k]: box of the first k entries; suffix[k]: of the rest */
             float prefix[TT_RT_CAP + 1][6], suffix[TT_RT_CAP + 1][6];
