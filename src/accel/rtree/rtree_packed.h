@@ -100,9 +100,10 @@ TT_HD const float *tt_rt_group(const tt_rtree_packed *t, uint32_t n, uint32_t *p
 TT_HD float tt_rt_min(float a, float b) { return a < b ? a : b; }
 TT_HD float tt_rt_max(float a, float b) { return a > b ? a : b; }
 
-/* Slab test of the box at position pos of group g: exactly tt_ray_box
+/* Slab test of the box at position pos of group g: tt_ray_box
  * (geometry/aabb.h), same operations in the same order, so the same
- * conservative widening of the far distance holds. */
+ * conservative widening of the far distance holds; the returned entry
+ * distance is lowered a little (see below). */
 TT_HD float tt_rt_box_test(const tt_wray *r, const float *g, uint32_t M, uint32_t pos,
                            float tmax)
 {
@@ -117,7 +118,13 @@ TT_HD float tt_rt_box_test(const tt_wray *r, const float *g, uint32_t M, uint32_
     float tfar = tt_rt_min(tt_rt_min(tt_rt_max(tx0, tx1), tt_rt_max(ty0, ty1)),
                            tt_rt_max(tz0, tz1));
     tfar *= 1.00000024f; /* 1 + 2 gamma(3), as in tt_ray_box */
-    return (tnear <= tfar && tnear < tmax) ? tnear : TT_INF;
+    /* The entry distance is compared with hit distances from the triangle
+     * test, a different computation: a triangle inside the box can come out
+     * a few ulps nearer than the box's rounded entry (e.g. a flat box and a
+     * ray whose tmax ends just behind the plane). Culling with the entry
+     * lowered by a relative 2^-16 never drops such a box. */
+    const float entry = tnear - fabsf(tnear) * (1.0f / 65536.0f);
+    return (tnear <= tfar && entry < tmax) ? entry : TT_INF;
 }
 
 #endif
