@@ -11,9 +11,9 @@
 
 #include <stdint.h>
 
+#include "accel/rtree/rtree_packed.h"
 #include "core/context.h"
 
-#define TT_RT_MAX_M 16
 #define TT_RT_CAP (TT_RT_MAX_M + 1) /* an overflowing node holds M + 1 */
 /* Levels the builder supports; the packer's own limit is far lower. */
 #define TT_RT_BUILD_LEVELS 32

@@ -65,7 +65,10 @@ tt_status rt_pack(tt_context *ctx, const rt_builder *b, const float *scene_tri, 
     p->slots = (uint32_t)slots;
     p->leaf_slots = (uint32_t)leaf_slots;
     p->triangles = b->triangles;
-    for (uint32_t l = 0; l <= L; l++) p->delta[l] = (uint32_t)delta[l];
+    for (uint32_t l = 0; l <= L; l++) {
+        p->delta[l] = (uint32_t)delta[l];
+        p->gfirst[l] = l == L ? 0 : (uint32_t)((delta[l] - 1) / M + 1);
+    }
 
     const size_t groups = (size_t)(slots - 1) / M + 1;
     t->box_floats = groups * 6 * M;

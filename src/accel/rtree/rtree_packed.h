@@ -33,12 +33,15 @@
 #ifndef TT_ACCEL_RTREE_PACKED_H
 #define TT_ACCEL_RTREE_PACKED_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "geometry/aabb.h"
 #include "geometry/hd.h"
 #include "geometry/ray.h"
 
+/* Entries per node: the options allow 4 <= M <= 16. */
+#define TT_RT_MAX_M 16
 /* At most 16 levels (L <= 15): with M >= 4 the slot count M^L already
  * reaches 2^30 at L = 15, far beyond any memory budget. */
 #define TT_RT_MAX_LEVELS 16
@@ -54,6 +57,10 @@ typedef struct tt_rtree_packed {
     uint32_t leaf_slots;                 /* M^L                               */
     uint32_t triangles;
     uint32_t delta[TT_RT_MAX_LEVELS + 1]; /* Delta_L(l), l = 0 .. L          */
+    /* group of the first slot of level l: (Delta_L(l) - 1) / M + 1 for
+     * l < L, 0 for the root; a slot's group follows from its level-relative
+     * index k = n - Delta_L(l) as gfirst[l] + k / M, without dividing n */
+    uint32_t gfirst[TT_RT_MAX_LEVELS + 1];
     const float *box;          /* 6 * M floats a group, groups = (N + M - 1) / M */
     const uint8_t *count;      /* Delta_L(0) entries                            */
     const uint32_t *leaf_start; /* leaf_slots + 1 entries                       */
@@ -100,6 +107,13 @@ TT_HD const float *tt_rt_group(const tt_rtree_packed *t, uint32_t n, uint32_t *p
 TT_HD float tt_rt_min(float a, float b) { return a < b ? a : b; }
 TT_HD float tt_rt_max(float a, float b) { return a > b ? a : b; }
 
+/* The group holding the M child slots of slot n on level l > 0 (they fill
+ * it exactly: n_e(n) is the first slot of group gfirst[l-1] + n - Delta_L(l)). */
+TT_HD const float *tt_rt_child_group(const tt_rtree_packed *t, uint32_t n, uint32_t l)
+{
+    return t->box + (size_t)(t->gfirst[l - 1] + (n - t->delta[l])) * 6 * t->M;
+}
+
 /* Slab test of the box at position pos of group g: tt_ray_box
  * (geometry/aabb.h), same operations in the same order, so the same
  * conservative widening of the far distance holds; the returned entry
@@ -125,6 +139,57 @@ TT_HD float tt_rt_box_test(const tt_wray *r, const float *g, uint32_t M, uint32_
      * lowered by a relative 2^-16 never drops such a box. */
     const float entry = tnear - fabsf(tnear) * (1.0f / 65536.0f);
     return (tnear <= tfar && entry < tmax) ? entry : TT_INF;
+}
+
+/* The slab test of four consecutive slots of a group (stride M between the
+ * six bound arrays). Identical per slot to tt_rt_box_test: on x86 CPUs as
+ * SSE instructions (minps/maxps compute exactly a < b ? a : b and
+ * a > b ? a : b, like tt_rt_min/tt_rt_max; no FMA contraction under ISO C),
+ * elsewhere (and on the GPU) as a plain loop. */
+#if defined(__SSE2__) && !defined(__CUDACC__)
+#include <emmintrin.h>
+TT_HD void tt_rt_box_test4(const tt_wray *r, const float *TT_RESTRICT g, uint32_t M, float tmax,
+                           float *TT_RESTRICT out)
+{
+    const __m128 ox = _mm_set1_ps(r->org[0]), oy = _mm_set1_ps(r->org[1]);
+    const __m128 oz = _mm_set1_ps(r->org[2]);
+    const __m128 ix = _mm_set1_ps(r->inv[0]), iy = _mm_set1_ps(r->inv[1]);
+    const __m128 iz = _mm_set1_ps(r->inv[2]);
+    const __m128 tx0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g), ox), ix);
+    const __m128 ty0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + M), oy), iy);
+    const __m128 tz0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 2 * M), oz), iz);
+    const __m128 tx1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 3 * M), ox), ix);
+    const __m128 ty1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 4 * M), oy), iy);
+    const __m128 tz1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 5 * M), oz), iz);
+    const __m128 tn = _mm_max_ps(_mm_max_ps(_mm_min_ps(tx0, tx1), _mm_min_ps(ty0, ty1)),
+                                 _mm_max_ps(_mm_min_ps(tz0, tz1), _mm_set1_ps(r->tmin)));
+    const __m128 tf = _mm_mul_ps(_mm_min_ps(_mm_min_ps(_mm_max_ps(tx0, tx1), _mm_max_ps(ty0, ty1)),
+                                            _mm_max_ps(tz0, tz1)),
+                                 _mm_set1_ps(1.00000024f));
+    const __m128 abs_tn = _mm_and_ps(tn, _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)));
+    const __m128 entry = _mm_sub_ps(tn, _mm_mul_ps(abs_tn, _mm_set1_ps(1.0f / 65536.0f)));
+    const __m128 hit = _mm_and_ps(_mm_cmple_ps(tn, tf), _mm_cmplt_ps(entry, _mm_set1_ps(tmax)));
+    _mm_storeu_ps(out, _mm_or_ps(_mm_and_ps(hit, entry), _mm_andnot_ps(hit, _mm_set1_ps(TT_INF))));
+}
+#else
+TT_HD void tt_rt_box_test4(const tt_wray *r, const float *TT_RESTRICT g, uint32_t M, float tmax,
+                           float *TT_RESTRICT out)
+{
+    for (uint32_t i = 0; i < 4; i++) out[i] = tt_rt_box_test(r, g, M, i, tmax);
+}
+#endif
+
+/* The slab test of all M slots of one group at once (a node's children):
+ * out[i] is slot i's entry distance or +inf. Four at a time when M is a
+ * multiple of 4, one at a time otherwise. */
+TT_HD void tt_rt_group_test(const tt_wray *r, const float *TT_RESTRICT g, uint32_t M, float tmax,
+                            float *TT_RESTRICT out)
+{
+    if ((M & 3) == 0) {
+        for (uint32_t i = 0; i < M; i += 4) tt_rt_box_test4(r, g + i, M, tmax, out + i);
+    } else {
+        for (uint32_t i = 0; i < M; i++) out[i] = tt_rt_box_test(r, g, M, i, tmax);
+    }
 }
 
 #endif

@@ -32,13 +32,15 @@ TT_HD int TT_VARIANT(tt_rt_ordered)(const tt_rtree_packed *TT_RESTRICT t, const 
             TT_COUNT(stats, interior, 1);
             const uint32_t c0 = tt_rt_first_child(t, n, l);
             const uint32_t cnt = TT_LDG(t->count + n);
-            const float *cg = tt_rt_group(t, c0, &pos); /* pos is 0 */
+            const float *cg = tt_rt_child_group(t, n, l);
             uint32_t *sn = stack_node + l * M;
             float *st = stack_t + l * M;
             uint32_t top = 0;
             TT_COUNT(stats, boxes, cnt);
+            float tbox[TT_RT_MAX_M];
+            tt_rt_group_test(r, cg, M, best, tbox);
             for (uint32_t i = 0; i < cnt; i++) {
-                const float tb = tt_rt_box_test(r, cg, M, i, best);
+                const float tb = tbox[i];
                 if (tb < best) {
                     /* insertion sort: farthest at the bottom */
                     uint32_t j = top++;

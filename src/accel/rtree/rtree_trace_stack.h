@@ -43,10 +43,12 @@ TT_HD int TT_VARIANT(tt_rt_stack)(const tt_rtree_packed *TT_RESTRICT t, const tt
             TT_COUNT(stats, interior, 1);
             const uint32_t c0 = tt_rt_first_child(t, n, l);
             const uint32_t cnt = TT_LDG(t->count + n);
-            const float *cg = tt_rt_group(t, c0, &pos);
+            const float *cg = tt_rt_child_group(t, n, l);
             TT_COUNT(stats, boxes, cnt);
+            float tbox[TT_RT_MAX_M];
+            tt_rt_group_test(r, cg, M, best, tbox);
             for (uint32_t i = cnt; i-- > 0;) {
-                const float tb = tt_rt_box_test(r, cg, M, i, best);
+                const float tb = tbox[i];
                 if (tb < best) {
                     stack_node[sp] = c0 + i;
                     stack_t[sp] = tb;

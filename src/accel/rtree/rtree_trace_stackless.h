@@ -17,21 +17,24 @@ TT_HD int TT_VARIANT(tt_rt_stackless)(const tt_rtree_packed *TT_RESTRICT t, cons
     const uint32_t M = t->M, L = t->L;
     float best = r->tmax, bu = 0.0f, bv = 0.0f;
     uint32_t found = TT_INVALID_ID;
-    uint32_t n = 0, l = L;
+    /* n: the slot (paper's numbering) on level l; g, pos: its group and
+     * position chi(n) there, kept along so that no step divides n */
+    uint32_t n = 0, l = L, pos = M - 1; /* the root: group 0, last position */
+    const float *g = t->box;
     (void)stats;
     TT_COUNT(stats, rays, 1);
     for (;;) {
-        uint32_t pos;
-        const float *g = tt_rt_group(t, n, &pos);
         const int empty = TT_LDG(g + pos) == TT_INF;
         if (!empty) {
             TT_COUNT(stats, boxes, 1);
             if (tt_rt_box_test(r, g, M, pos, best) < best) {
                 TT_COUNT(stats, nodes, 1);
-                if (l > 0) {
+                if (l > 0) { /* n = n_e(n), one level down */
                     TT_COUNT(stats, interior, 1);
+                    g = tt_rt_child_group(t, n, l);
                     n = tt_rt_first_child(t, n, l);
                     l--;
+                    pos = 0;
                     continue;
                 }
                 TT_COUNT(stats, leaves, 1);
@@ -51,17 +54,22 @@ TT_HD int TT_VARIANT(tt_rt_stackless)(const tt_rtree_packed *TT_RESTRICT t, cons
                 }
             }
         }
-        /* the next sibling, or the next sibling of the nearest ancestor
-         * that has one; done when back at the root */
+        /* the next sibling (chi(n) < M - 1), or the next sibling of the
+         * nearest ancestor that has one (n = n_p(n)); done at the root */
         int last = empty;
         for (;;) {
             if (l == L) goto done;
-            if (!last && tt_rt_chi(t, n, l) < M - 1) {
+            if (!last && pos < M - 1) {
                 n++;
+                pos++;
                 break;
             }
-            n = tt_rt_parent(t, n, l);
+            const uint32_t kp = tt_rt_div(t, n - t->delta[l]); /* n_p(n) - Delta_L(l+1) */
+            n = kp + t->delta[l + 1];
             l++;
+            if (l == L) goto done;
+            pos = tt_rt_mod(t, kp); /* chi(n_p(n)) */
+            g = t->box + (size_t)(t->gfirst[l] + tt_rt_div(t, kp)) * 6 * M;
             last = 0;
         }
     }
