@@ -29,63 +29,77 @@ static void sort_entries(float (*ent)[6], int cnt, int axis, int by_hi, int *ord
     }
 }
 
+/* Prefix and suffix boxes of the entries in `order`: prefix[k] bounds the
+ * first k, suffix[k] the rest (k = m .. cnt - m are used). */
+static void prefix_suffix(float (*ent)[6], const int *order, int cnt, int m,
+                          float (*prefix)[6], float (*suffix)[6])
+{
+    memcpy(prefix[1], ent[order[0]], sizeof prefix[1]);
+    for (int k = 1; k < cnt - m; k++) {
+        const float *e = ent[order[k]];
+        for (int c = 0; c < 3; c++) {
+            prefix[k + 1][c] = rt_min(prefix[k][c], e[c]);
+            prefix[k + 1][c + 3] = rt_max(prefix[k][c + 3], e[c + 3]);
+        }
+    }
+    memcpy(suffix[cnt - 1], ent[order[cnt - 1]], sizeof suffix[0]);
+    for (int k = cnt - 2; k >= m; k--) {
+        const float *e = ent[order[k]];
+        for (int c = 0; c < 3; c++) {
+            suffix[k][c] = rt_min(suffix[k + 1][c], e[c]);
+            suffix[k][c + 3] = rt_max(suffix[k + 1][c + 3], e[c + 3]);
+        }
+    }
+}
+
 void rt_split_rstar(const rt_builder *b, uint32_t n, uint8_t *group)
 {
     const int cnt = b->hdr[n].count, m = b->m, cap = b->cap;
     const float *s = rt_node_box(b, n);
     float ent[TT_RT_CAP][6];
     for (int i = 0; i < cnt; i++) rt_soa_get(s, cap, i, ent[i]);
+    float prefix[TT_RT_CAP + 1][6], suffix[TT_RT_CAP + 1][6];
 
+    /* ChooseSplitAxis: the least sum of surface areas (margins) over all
+     * distributions of both sorts. */
+    int order[3][2][TT_RT_CAP];
     float best_margin = TT_INF;
-    int best_order[TT_RT_CAP], best_k = m;
-    for (int axis = 0; axis < 3; axis++) {
+    int axis = 0;
+    for (int a = 0; a < 3; a++) {
         float margin = 0.0f;
-        /* the best distribution on this axis: (overlap, volume, surface) */
-        float k0 = TT_INF, k1 = TT_INF, k2 = TT_INF;
-        int ax_order[TT_RT_CAP], ax_k = m;
         for (int by_hi = 0; by_hi < 2; by_hi++) {
-            int order[TT_RT_CAP] = {0};
-            sort_entries(ent, cnt, axis, by_hi, order);
-            /* prefix[k]: box of the first k entries; suffix[k]: of the rest */
-            float prefix[TT_RT_CAP + 1][6], suffix[TT_RT_CAP + 1][6];
-            memcpy(prefix[1], ent[order[0]], sizeof prefix[1]);
-            for (int k = 1; k < cnt; k++) {
-                const float *e = ent[order[k]];
-                for (int c = 0; c < 3; c++) {
-                    prefix[k + 1][c] = rt_min(prefix[k][c], e[c]);
-                    prefix[k + 1][c + 3] = rt_max(prefix[k][c + 3], e[c + 3]);
-                }
-            }
-            memcpy(suffix[cnt - 1], ent[order[cnt - 1]], sizeof suffix[0]);
-            for (int k = cnt - 2; k >= m; k--) {
-                const float *e = ent[order[k]];
-                for (int c = 0; c < 3; c++) {
-                    suffix[k][c] = rt_min(suffix[k + 1][c], e[c]);
-                    suffix[k][c + 3] = rt_max(suffix[k + 1][c + 3], e[c + 3]);
-                }
-            }
-            for (int k = m; k <= cnt - m; k++) {
-                const float area = rt_box_area(prefix[k]) + rt_box_area(suffix[k]);
-                margin += area;
-                const float ov = rt_box_overlap(prefix[k], suffix[k]);
-                if (ov > k0) continue;
-                const float vol = rt_box_volume(prefix[k]) + rt_box_volume(suffix[k]);
-                if (ov < k0 || vol < k1 || (vol == k1 && area < k2)) {
-                    k0 = ov;
-                    k1 = vol;
-                    k2 = area;
-                    memcpy(ax_order, order, (size_t)cnt * sizeof order[0]);
-                    ax_k = k;
-                }
-            }
+            sort_entries(ent, cnt, a, by_hi, order[a][by_hi]);
+            prefix_suffix(ent, order[a][by_hi], cnt, m, prefix, suffix);
+            for (int k = m; k <= cnt - m; k++)
+                margin += rt_box_area(prefix[k]) + rt_box_area(suffix[k]);
         }
         if (margin < best_margin) {
             best_margin = margin;
-            memcpy(best_order, ax_order, (size_t)cnt * sizeof ax_order[0]);
-            best_k = ax_k;
+            axis = a;
         }
     }
-    for (int k = 0; k < cnt; k++) group[best_order[k]] = k >= best_k;
+    /* ChooseSplitIndex on that axis: least overlap, then least volume, then
+     * least surface area (the fallback for flat boxes). */
+    float k0 = TT_INF, k1 = TT_INF, k2 = TT_INF;
+    int best_sort = 0, best_k = m;
+    for (int by_hi = 0; by_hi < 2; by_hi++) {
+        prefix_suffix(ent, order[axis][by_hi], cnt, m, prefix, suffix);
+        for (int k = m; k <= cnt - m; k++) {
+            const float ov = rt_box_overlap(prefix[k], suffix[k]);
+            if (ov > k0) continue;
+            const float vol = rt_box_volume(prefix[k]) + rt_box_volume(suffix[k]);
+            const float area = rt_box_area(prefix[k]) + rt_box_area(suffix[k]);
+            if (ov < k0 || vol < k1 || (vol == k1 && area < k2)) {
+                k0 = ov;
+                k1 = vol;
+                k2 = area;
+                best_sort = by_hi;
+                best_k = k;
+            }
+        }
+    }
+    const int *best = order[axis][best_sort];
+    for (int k = 0; k < cnt; k++) group[best[k]] = k >= best_k;
 }
 
 /* ----------------------------------------------------- quadratic split */
