@@ -1,0 +1,29 @@
+/* The treetrace command-line tool: one file per command, dispatched from the
+ * table in main.c. A command takes argv with argv[0] being its own name and
+ * returns the process exit status. */
+#ifndef TT_CLI_CLI_H
+#define TT_CLI_CLI_H
+
+#include <stdio.h>
+
+/* Exit statuses. */
+#define CLI_OK 0
+#define CLI_RUNTIME 1 /* the work failed: unreadable scene, unwritable file ...  */
+#define CLI_USAGE 2   /* the command line is wrong                              */
+
+typedef struct cli_command {
+    const char *name;
+    const char *summary; /* one line for `treetrace --help`                     */
+    int (*run)(int argc, char **argv);
+    void (*help)(FILE *out);
+} cli_command;
+
+/* The commands (cmd_*.c). To add one: write cli/<name>/... or cli/cmd_<name>.c
+ * with its run and help functions, declare them here and add one line to the
+ * table in main.c. */
+int cmd_render(int argc, char **argv);
+void cmd_render_help(FILE *out);
+int cmd_info(int argc, char **argv);
+void cmd_info_help(FILE *out);
+
+#endif
