@@ -37,7 +37,7 @@ static void shade_pixel(const tt_frame *f, int shadows, uint32_t x, uint32_t y, 
         tt_vec3 l = tt_v3_normalize(tt_v3_sub(tt_v3_load(f->camera->light), p));
         float diffuse = fmaxf(0.0f, tt_v3_dot(n, l));
         if (shadows && f->shadow[i]) diffuse = 0.0f;
-        light = 0.08f + 0.12f * facing + 0.80f * diffuse;
+        light = 0.04f + 0.10f * facing + 0.86f * diffuse;
     } else {
         light = 0.10f + 0.90f * facing;
     }

@@ -117,7 +117,10 @@ static void test_shared_edge(void)
     const float a[3] = {0, 0, 0}, b[3] = {1.1f, 0.3f, 0.2f}, c[3] = {0.2f, 1.3f, -0.1f},
                 d[3] = {1.4f, 1.1f, 0.4f};
     int misses = 0, rays = 0;
-    for (int i = 0; i <= 64; i++) {
+    /* interior points only: at the edge's end points the two triangles do
+     * not cover a whole neighbourhood, and the rounded direction may pass
+     * just beside the vertex */
+    for (int i = 1; i < 64; i++) {
         float s = (float)i / 64.0f;
         float p[3]; /* the point s along the shared edge b-c */
         for (int k = 0; k < 3; k++) p[k] = b[k] + s * (c[k] - b[k]);

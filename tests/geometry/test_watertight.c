@@ -172,6 +172,8 @@ static double det3(const double *a, const double *b, const double *c)
            a[2] * (b[0] * c[1] - b[1] * c[0]);
 }
 
+static double len3(const double *a) { return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
+
 /* For a convex mesh centred at the origin: whether o sees triangle t's outer
  * side clearly (not grazing). */
 static int faces_origin(const mesh *m, uint32_t t, const float *o)
@@ -284,10 +286,15 @@ static void trace_mesh(tracer *tr, const mesh *m, int n_origins, float radius, c
                     sub(b, o, ob);
                     sub(apex(m, tris[0], e[i].lo, e[i].hi), o, oc1);
                     sub(apex(m, tris[1], e[i].lo, e[i].hi), o, oc2);
-                    double s1 = det3(oa, ob, oc1), s2 = det3(oa, ob, oc2);
-                    double scale = sqrt(oa[0] * oa[0] + oa[1] * oa[1] + oa[2] * oa[2]);
-                    scale = scale * scale * scale * 1e-9;
-                    usable = (s1 > scale && s2 < -scale) || (s1 < -scale && s2 > scale);
+                    /* the determinants normalized by the lengths: the sine
+                     * of each apex's angle off the plane (o, a, b), kept
+                     * clear of zero so that the rounded direction still
+                     * passes between the two triangles, not beside a
+                     * triangle seen edge-on */
+                    double s1 = det3(oa, ob, oc1) / (len3(oa) * len3(ob) * len3(oc1));
+                    double s2 = det3(oa, ob, oc2) / (len3(oa) * len3(ob) * len3(oc2));
+                    const double margin = 1e-5;
+                    usable = (s1 > margin && s2 < -margin) || (s1 < -margin && s2 > margin);
                 }
                 if (!usable) continue;
                 for (size_t f = 0; f < sizeof fractions / sizeof fractions[0]; f++) {
