@@ -103,6 +103,11 @@ static tt_status validate(tt_context *ctx, const tt_scene *scene, const tt_accel
     if (o->repeat < 1)
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "tt_render: repeat %d is less than 1",
                         o->repeat);
+    if ((o->stats || o->keep_pixel_stats) &&
+        (!accel->vt->intersect_stats || !accel->vt->occluded_stats))
+        return tt_error(ctx, TT_ERR_UNSUPPORTED,
+                        "tt_render: structure '%s' has no counting traversal for statistics",
+                        accel->vt->name);
     const char *problem = tt_camera_problem(camera);
     if (problem) return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "tt_render: bad camera: %s", problem);
     return TT_OK;

@@ -93,7 +93,7 @@ int main(void)
                    scene_path, views, N, N, *name, out);
         CHECK_MSG(r.status == 0, "%s: exit %d: %s", *name, r.status, r.err);
         long size = 0;
-        uint8_t *got = tt_read_file(out, &size);
+        uint8_t *got = tt_test_read_file(out, &size);
         CHECK_MSG(got && size == N * N * 12, "%s: hit buffer of %ld bytes", *name, size);
         if (got && size == N * N * 12) {
             if (strcmp(*name, "bruteforce") == 0)

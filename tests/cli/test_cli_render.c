@@ -37,7 +37,7 @@ static uint32_t be32(const unsigned char *p)
 static void check_png(const char *path, uint32_t w, uint32_t h)
 {
     long size = 0;
-    unsigned char *png = tt_read_file(path, &size);
+    unsigned char *png = tt_test_read_file(path, &size);
     static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     CHECK_MSG(png && size > 33, "%s: missing or too short", path);
     if (!png || size <= 33) {
@@ -120,7 +120,7 @@ static void test_known_json(const char *scene, const char *accel)
         }
     }
     long size = 0;
-    unsigned char *buf = tt_read_file(hits, &size);
+    unsigned char *buf = tt_test_read_file(hits, &size);
     int bad = tt_known_check_hits(accel, buf, buf ? (size_t)size : 0, 1);
     CHECK_MSG(bad == 0, "%s: %d pixels of the CLI's hit buffer are wrong", accel, bad);
     free(buf);
@@ -170,7 +170,7 @@ static void test_known_variants(const char *scene)
                scene, TT_KNOWN_CLI_CAMERA, hits);
     CHECK_MSG(r.status == 0, "exit %d: %s", r.status, r.err);
     CHECK(number(r.out, "shadow_rays") == 0 && number(r.out, "primary_hits") == 96);
-    buf = tt_read_file(hits, &size);
+    buf = tt_test_read_file(hits, &size);
     CHECK(tt_known_check_hits("--no-shadows", buf, buf ? (size_t)size : 0, 0) == 0);
     free(buf);
     tt_cli_result_free(&r);
@@ -182,7 +182,7 @@ static void test_known_variants(const char *scene)
     char s[64];
     CHECK(tt_json_get_string(r.out, "light", s, sizeof s) && strcmp(s, "none") == 0);
     CHECK(number(r.out, "shadow_rays") == 0);
-    buf = tt_read_file(hits, &size);
+    buf = tt_test_read_file(hits, &size);
     CHECK(tt_known_check_hits("no light", buf, buf ? (size_t)size : 0, 0) == 0);
     free(buf);
     tt_cli_result_free(&r);
@@ -197,7 +197,7 @@ static void test_known_variants(const char *scene)
     tt_cli_run(&r, "render '%s' --accel bruteforce --view known:main --size 16x12 --hits '%s'",
                scene, hits);
     CHECK_MSG(r.status == 0, "--view beside the scene: exit %d: %s", r.status, r.err);
-    buf = tt_read_file(hits, &size);
+    buf = tt_test_read_file(hits, &size);
     CHECK(tt_known_check_hits("--view", buf, buf ? (size_t)size : 0, 1) == 0);
     free(buf);
     tt_cli_result_free(&r);
@@ -215,7 +215,7 @@ static void test_default_scene(void)
     CHECK(number(r.out, "triangles") > 0 && number(r.out, "primary_hits") > 0);
     check_png(png, 24, 16);
     long size = 0;
-    unsigned char *buf = tt_read_file(hits, &size);
+    unsigned char *buf = tt_test_read_file(hits, &size);
     CHECK(buf && size == 24 * 16 * 12);
     free(buf);
     tt_cli_result_free(&r);

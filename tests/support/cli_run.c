@@ -39,7 +39,7 @@ const char *tt_cli_tmp(const char *name)
     return p;
 }
 
-unsigned char *tt_read_file(const char *path, long *size)
+unsigned char *tt_test_read_file(const char *path, long *size)
 {
     FILE *fp = fopen(path, "rb");
     if (!fp) return NULL;
@@ -75,8 +75,8 @@ int tt_cli_run(tt_cli_result *r, const char *fmt, ...)
     if (st == -1) r->status = -1;
     else if (WIFEXITED(st)) r->status = WEXITSTATUS(st);
     else r->status = 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
-    r->out = (char *)tt_read_file(out, NULL);
-    r->err = (char *)tt_read_file(err, NULL);
+    r->out = (char *)tt_test_read_file(out, NULL);
+    r->err = (char *)tt_test_read_file(err, NULL);
     if (!r->out) r->out = calloc(1, 1);
     if (!r->err) r->err = calloc(1, 1);
     return r->status;

@@ -23,6 +23,6 @@ void tt_cli_result_free(tt_cli_result *r);
 const char *tt_cli_tmp(const char *name);
 
 /* A whole file read into memory (NUL-terminated); NULL if unreadable. */
-unsigned char *tt_read_file(const char *path, long *size);
+unsigned char *tt_test_read_file(const char *path, long *size);
 
 #endif
