@@ -83,7 +83,8 @@ static void test_structure(const char *scene, const char *accel)
 
 int main(void)
 {
-    const char *scene = tt_cli_tmp("known.ply");
+    char scene[512]; /* a copy: tt_cli_tmp's strings are reused */
+    snprintf(scene, sizeof scene, "%s", tt_cli_tmp("known.ply"));
     if (tt_known_write_ply(scene) != 0) return 1;
     for (const char *const *n = tt_accel_names(); *n; n++) test_structure(scene, *n);
     return tt_test_finish();

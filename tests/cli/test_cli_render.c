@@ -223,7 +223,8 @@ static void test_default_scene(void)
 
 int main(void)
 {
-    const char *scene = tt_cli_tmp("known.ply");
+    char scene[512]; /* a copy: tt_cli_tmp's strings are reused */
+    snprintf(scene, sizeof scene, "%s", tt_cli_tmp("known.ply"));
     if (tt_known_write_ply(scene) != 0) {
         fprintf(stderr, "cannot write %s\n", scene);
         return 1;

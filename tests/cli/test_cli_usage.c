@@ -144,7 +144,8 @@ static void test_structure_option_errors(void)
 
 static void test_runtime_errors(void)
 {
-    const char *scene = tt_cli_tmp("known.ply");
+    char scene[512]; /* a copy: tt_cli_tmp's strings are reused */
+    snprintf(scene, sizeof scene, "%s", tt_cli_tmp("known.ply"));
     CHECK(tt_known_write_ply(scene) == 0);
     char args[1024];
     expect_status(1, "/nonexistent/scene.ply", "render /nonexistent/scene.ply --accel bruteforce");
