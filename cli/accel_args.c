@@ -156,6 +156,10 @@ int cli_accel_args_finish(const char *cmd, cli_accel_args *x)
                                    x->accel);
         }
     }
+    if (kdtree && x->build.kdtree.shadow_caster_hint && x->build.kdtree.traversal == TT_KD_HTR)
+        return cli_usage_error(cmd,
+                               "option --shadow-hint caster needs --traversal btr, sltr or seq "
+                               "(htr starts every ray at the root)");
     const tt_rtree_options *r = &x->build.rtree;
     if (rtree && 2 * r->m > r->M)
         return cli_usage_error(cmd, "options --m %d and --M %d: the R-tree needs 2 <= m <= M/2",
@@ -218,5 +222,6 @@ void cli_accel_args_help(FILE *out)
             "                           (default 0.8)\n"
             "  --max-depth N            maximum depth, 0 = automatic 8 + 1.3 log2 N (default 0)\n"
             "  --shadow-hint primary|caster  shadow rays start at the primary ray's end node or\n"
-            "                           at the last shadow caster's node (default primary)\n");
+            "                           at the last shadow caster's node (default primary;\n"
+            "                           caster needs --traversal btr, sltr or seq)\n");
 }

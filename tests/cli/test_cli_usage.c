@@ -137,6 +137,7 @@ static void test_structure_option_errors(void)
         expect_status(2, "--empty-bonus: 1", "render --accel kdtree --empty-bonus 1");
         expect_status(2, "--max-depth: -2", "render --accel kdtree --max-depth -2");
         expect_status(2, "'last'", "render --accel kdtree --shadow-hint last");
+        expect_status(2, "--shadow-hint caster", "render --accel kdtree --shadow-hint caster");
         expect_status(2, "'stack'", "render --accel kdtree --traversal stack");
         expect_status(2, "--strategy", "render --accel kdtree --strategy rstar");
     }
