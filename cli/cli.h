@@ -15,12 +15,14 @@ typedef struct cli_command {
     const char *name;
     const char *summary; /* one line for `treetrace --help`                     */
     int (*run)(int argc, char **argv);
-    void (*help)(FILE *out);
+    void (*help)(FILE *out); /* NULL: `help CMD` runs `CMD --help`            */
 } cli_command;
 
-/* The commands (cmd_*.c). To add one: write cli/<name>/... or cli/cmd_<name>.c
- * with its run and help functions, declare them here and add one line to the
- * table in main.c. */
+/* The commands (cmd_*.c). To add one: write cli/cmd_<name>.c (or a folder
+ * cli/<name>/) with its run function (and a help function, or NULL if it
+ * handles --help itself), declare it here or include its header in main.c,
+ * and add one line to the table in main.c, e.g. for the benchmark:
+ *     {"bench", "reproduce the papers' tables", tt_cli_bench, NULL},        */
 int cmd_render(int argc, char **argv);
 void cmd_render_help(FILE *out);
 int cmd_info(int argc, char **argv);

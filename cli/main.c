@@ -71,8 +71,14 @@ int main(int argc, char **argv)
         }
         const cli_command *c = find_command(argv[2]);
         if (!c) return unknown_command(argv[2]);
-        c->help(stdout);
-        return CLI_OK;
+        if (c->help) {
+            c->help(stdout);
+            return CLI_OK;
+        }
+        /* a command without a help function answers `CMD --help` itself */
+        static char help_option[] = "--help";
+        char *help_argv[] = {argv[2], help_option, NULL};
+        return c->run(2, help_argv);
     }
     if (first[0] == '-') {
         fprintf(stderr, "treetrace: unknown option '%s' (see treetrace --help)\n", first);
