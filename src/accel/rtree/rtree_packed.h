@@ -145,24 +145,36 @@ TT_HD float tt_rt_box_test(const tt_wray *r, const float *g, uint32_t M, uint32_
  * six bound arrays). Identical per slot to tt_rt_box_test: on x86 CPUs as
  * SSE instructions (minps/maxps compute exactly a < b ? a : b and
  * a > b ? a : b, like tt_rt_min/tt_rt_max; no FMA contraction under ISO C),
- * elsewhere (and on the GPU) as a plain loop. */
+ * elsewhere (and on the GPU) as a plain loop. The ray is broadcast to SIMD
+ * lanes once per ray (tt_rt_lanes_init), not once per node. */
 #if defined(__SSE2__) && !defined(__CUDACC__)
 #include <emmintrin.h>
-TT_HD void tt_rt_box_test4(const tt_wray *r, const float *TT_RESTRICT g, uint32_t M, float tmax,
-                           float *TT_RESTRICT out)
+typedef struct tt_rt_lanes {
+    __m128 ox, oy, oz, ix, iy, iz, tmin;
+} tt_rt_lanes;
+
+TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r)
 {
-    const __m128 ox = _mm_set1_ps(r->org[0]), oy = _mm_set1_ps(r->org[1]);
-    const __m128 oz = _mm_set1_ps(r->org[2]);
-    const __m128 ix = _mm_set1_ps(r->inv[0]), iy = _mm_set1_ps(r->inv[1]);
-    const __m128 iz = _mm_set1_ps(r->inv[2]);
-    const __m128 tx0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g), ox), ix);
-    const __m128 ty0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + M), oy), iy);
-    const __m128 tz0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 2 * M), oz), iz);
-    const __m128 tx1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 3 * M), ox), ix);
-    const __m128 ty1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 4 * M), oy), iy);
-    const __m128 tz1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 5 * M), oz), iz);
+    s->ox = _mm_set1_ps(r->org[0]);
+    s->oy = _mm_set1_ps(r->org[1]);
+    s->oz = _mm_set1_ps(r->org[2]);
+    s->ix = _mm_set1_ps(r->inv[0]);
+    s->iy = _mm_set1_ps(r->inv[1]);
+    s->iz = _mm_set1_ps(r->inv[2]);
+    s->tmin = _mm_set1_ps(r->tmin);
+}
+
+TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, uint32_t M,
+                           float tmax, float *TT_RESTRICT out)
+{
+    const __m128 tx0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g), s->ox), s->ix);
+    const __m128 ty0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + M), s->oy), s->iy);
+    const __m128 tz0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 2 * M), s->oz), s->iz);
+    const __m128 tx1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 3 * M), s->ox), s->ix);
+    const __m128 ty1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 4 * M), s->oy), s->iy);
+    const __m128 tz1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 5 * M), s->oz), s->iz);
     const __m128 tn = _mm_max_ps(_mm_max_ps(_mm_min_ps(tx0, tx1), _mm_min_ps(ty0, ty1)),
-                                 _mm_max_ps(_mm_min_ps(tz0, tz1), _mm_set1_ps(r->tmin)));
+                                 _mm_max_ps(_mm_min_ps(tz0, tz1), s->tmin));
     const __m128 tf = _mm_mul_ps(_mm_min_ps(_mm_min_ps(_mm_max_ps(tx0, tx1), _mm_max_ps(ty0, ty1)),
                                             _mm_max_ps(tz0, tz1)),
                                  _mm_set1_ps(1.00000024f));
@@ -172,21 +184,27 @@ TT_HD void tt_rt_box_test4(const tt_wray *r, const float *TT_RESTRICT g, uint32_
     _mm_storeu_ps(out, _mm_or_ps(_mm_and_ps(hit, entry), _mm_andnot_ps(hit, _mm_set1_ps(TT_INF))));
 }
 #else
-TT_HD void tt_rt_box_test4(const tt_wray *r, const float *TT_RESTRICT g, uint32_t M, float tmax,
-                           float *TT_RESTRICT out)
+typedef struct tt_rt_lanes {
+    const tt_wray *r;
+} tt_rt_lanes;
+
+TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r) { s->r = r; }
+
+TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, uint32_t M,
+                           float tmax, float *TT_RESTRICT out)
 {
-    for (uint32_t i = 0; i < 4; i++) out[i] = tt_rt_box_test(r, g, M, i, tmax);
+    for (uint32_t i = 0; i < 4; i++) out[i] = tt_rt_box_test(s->r, g, M, i, tmax);
 }
 #endif
 
 /* The slab test of all M slots of one group at once (a node's children):
  * out[i] is slot i's entry distance or +inf. Four at a time when M is a
  * multiple of 4, one at a time otherwise. */
-TT_HD void tt_rt_group_test(const tt_wray *r, const float *TT_RESTRICT g, uint32_t M, float tmax,
-                            float *TT_RESTRICT out)
+TT_HD void tt_rt_group_test(const tt_rt_lanes *s, const tt_wray *r, const float *TT_RESTRICT g,
+                            uint32_t M, float tmax, float *TT_RESTRICT out)
 {
     if ((M & 3) == 0) {
-        for (uint32_t i = 0; i < M; i += 4) tt_rt_box_test4(r, g + i, M, tmax, out + i);
+        for (uint32_t i = 0; i < M; i += 4) tt_rt_box_test4(s, g + i, M, tmax, out + i);
     } else {
         for (uint32_t i = 0; i < M; i++) out[i] = tt_rt_box_test(r, g, M, i, tmax);
     }

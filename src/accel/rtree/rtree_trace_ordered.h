@@ -18,6 +18,8 @@ TT_HD int TT_VARIANT(tt_rt_ordered)(const tt_rtree_packed *TT_RESTRICT t, const 
     uint32_t stack_node[TT_RT_STACK_SIZE];
     float stack_t[TT_RT_STACK_SIZE];
     uint32_t sp[TT_RT_MAX_LEVELS + 1];
+    tt_rt_lanes lanes;
+    tt_rt_lanes_init(&lanes, r);
     (void)stats;
     TT_COUNT(stats, rays, 1);
 
@@ -38,7 +40,7 @@ TT_HD int TT_VARIANT(tt_rt_ordered)(const tt_rtree_packed *TT_RESTRICT t, const 
             uint32_t top = 0;
             TT_COUNT(stats, boxes, cnt);
             float tbox[TT_RT_MAX_M];
-            tt_rt_group_test(r, cg, M, best, tbox);
+            tt_rt_group_test(&lanes, r, cg, M, best, tbox);
             for (uint32_t i = 0; i < cnt; i++) {
                 const float tb = tbox[i];
                 if (tb < best) {

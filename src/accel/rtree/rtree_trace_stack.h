@@ -19,6 +19,8 @@ TT_HD int TT_VARIANT(tt_rt_stack)(const tt_rtree_packed *TT_RESTRICT t, const tt
     float stack_t[TT_RT_STACK_SIZE];
     uint8_t stack_l[TT_RT_STACK_SIZE];
     uint32_t sp = 0;
+    tt_rt_lanes lanes;
+    tt_rt_lanes_init(&lanes, r);
     (void)stats;
     TT_COUNT(stats, rays, 1);
 
@@ -46,7 +48,7 @@ TT_HD int TT_VARIANT(tt_rt_stack)(const tt_rtree_packed *TT_RESTRICT t, const tt
             const float *cg = tt_rt_child_group(t, n, l);
             TT_COUNT(stats, boxes, cnt);
             float tbox[TT_RT_MAX_M];
-            tt_rt_group_test(r, cg, M, best, tbox);
+            tt_rt_group_test(&lanes, r, cg, M, best, tbox);
             for (uint32_t i = cnt; i-- > 0;) {
                 const float tb = tbox[i];
                 if (tb < best) {
