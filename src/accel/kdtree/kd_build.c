@@ -72,18 +72,22 @@ void kd_split_cell(const tt_aabb *cell, const kd_split *s, tt_aabb *left, tt_aab
     right->lo[s->axis] = s->pos;
 }
 
-static int grow_nodes(kd_builder *b, uint32_t extra)
+/* Room for `extra` more node slots. */
+static tt_status grow_nodes(kd_builder *b, uint32_t extra)
 {
-    if (b->node_count + extra <= b->node_cap) return 1;
-    if (b->node_count + extra >= TT_KD_MAX_NODES) return 0;
+    if (b->node_count + extra <= b->node_cap) return TT_OK;
+    if (b->node_count + extra >= TT_KD_MAX_NODES)
+        return tt_error(b->ctx, TT_ERR_INVALID_ARGUMENT,
+                        "kdtree: the tree needs more than 2^29 nodes; raise cost_traversal or "
+                        "lower max_depth");
     uint32_t cap = b->node_cap ? b->node_cap : 1024;
     while (cap < b->node_count + extra) cap *= 2;
     if (cap > TT_KD_MAX_NODES) cap = TT_KD_MAX_NODES;
     tt_kd_node *p = tt_realloc_array(b->ctx, b->nodes, cap, sizeof *p);
-    if (!p) return 0;
+    if (!p) return kd_oom(b);
     b->nodes = p;
     b->node_cap = cap;
-    return 1;
+    return TT_OK;
 }
 
 static int cmp_u32(const void *a, const void *b)
@@ -94,7 +98,8 @@ static int cmp_u32(const void *a, const void *b)
 
 tt_status kd_emit_leaf(kd_builder *b, uint32_t *ids, uint32_t n)
 {
-    if (!grow_nodes(b, 1)) return kd_oom(b);
+    tt_status st = grow_nodes(b, 1);
+    if (st != TT_OK) return st;
     if (b->ref_count + n > b->ref_cap) {
         size_t cap = b->ref_cap ? b->ref_cap : 4096;
         while (cap < b->ref_count + n) cap *= 2;
@@ -120,7 +125,8 @@ tt_status kd_emit_interior(kd_builder *b, const kd_split *s, const tt_aabb *cell
     /* The root always is augmented (record 0, made before the recursion);
      * below, a node is when it is d_min levels below the last one. */
     int aug = here->depth == 0 || (b->dmin > 0 && here->aug_dist >= b->dmin);
-    if (!grow_nodes(b, 1u + (uint32_t)aug)) return kd_oom(b);
+    tt_status st = grow_nodes(b, 1u + (uint32_t)aug);
+    if (st != TT_OK) return st;
     uint32_t me = b->node_count;
     uint32_t rec = 0;
     if (aug && here->depth > 0) {
