@@ -55,6 +55,10 @@ int main(void)
     views(ctx, "cornell_box.obj", cornell, 1, dmins, 5);
     views(ctx, "bun_zipper.ply", bunny, 2, dmins, 5);
     views(ctx, "sibenik.obj", sibenik, 2, dmins, 5);
+    /* The big scene at a small size and two d_min: bruteforce dominates. */
+    const int dmins_big[] = {2, -1};
+    const shot conference[] = {{"conference:main", 32, 24}};
+    views(ctx, "conference.ply", conference, 1, dmins_big, 2);
     tt_context_destroy(ctx);
     return tt_test_finish();
 }
