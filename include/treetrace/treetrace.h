@@ -169,7 +169,8 @@ typedef enum tt_kd_traversal {
 
 typedef struct tt_kdtree_options {
     tt_kd_builder builder;  /* default TT_KD_NLOGN                             */
-    int dmin;               /* sparse boxes every dmin levels; <0: no boxes    */
+    int dmin;               /* >= 1: a sparse box every dmin levels; < 0: only */
+                            /* the root's box; 0 is refused; default 4        */
     float cost_traversal;   /* SAH C_T, default 1                              */
     float cost_intersect;   /* SAH C_I, default 1.5                            */
     float empty_bonus;      /* in [0, 1): a split with an empty side costs    */
