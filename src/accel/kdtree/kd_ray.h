@@ -136,4 +136,27 @@ TT_HD uint32_t tt_kd_start_node(const tt_kd_view *T, const tt_wray *r, uint32_t 
     return 0;
 }
 
+/* Whether the ray leaves box a near one of its edges or corners: a face
+ * other than the exit face at t_exit is crossed within the rounding band,
+ * or the ray runs within the band of a face it is parallel to. */
+TT_HD int tt_kd_exit_near_edge(const tt_kd_aug *a, const tt_wray *r, const tt_kd_band *band,
+                               float t_exit)
+{
+    int at_exit = 0;
+    for (int k = 0; k < 3; k++) {
+        const float lo = TT_LDG(&a->lo[k]), hi = TT_LDG(&a->hi[k]), o = r->org[k];
+        if (r->dir[k] == 0.0f) {
+            const float e = TT_KD_BAND * (fabsf(o) + tt_kd_max(fabsf(lo), fabsf(hi)));
+            if (o - lo <= e || hi - o <= e) return 1;
+            continue;
+        }
+        const float face = r->dir[k] < 0.0f ? lo : hi;
+        const float t = (face - r->org[k]) * r->inv[k];
+        const float e = 2.0f * (fabsf(face) * band->bi[k] + band->bo[k]);
+        if (t == t_exit && !at_exit) at_exit = 1; /* the exit face itself */
+        else if (t - t_exit <= e) return 1;
+    }
+    return 0;
+}
+
 #endif

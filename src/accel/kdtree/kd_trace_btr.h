@@ -5,12 +5,15 @@
  * one augmented node's subtree over the ray's interval inside its box. The
  * first round starts in the hinted node (or the nearest augmented ancestor
  * holding the origin). When a round ends without a hit closer than its box
- * exit, the ray continues from the nearest augmented ancestor whose box it
- * has not yet left, over [previous exit, ancestor's exit]: the paper's
- * TraverseUp. Instead of the paper's epsilon shift of the entry point, the
- * new round never enters the subtree the previous round covered; it still
- * visits the cells around the exit point outside that subtree, so a ray
- * leaving a box through an edge or corner misses none of them. */
+ * exit T, the ray continues from the nearest augmented ancestor whose box it
+ * has not yet left, over [T, ancestor's exit]: the paper's TraverseUp.
+ * Instead of the paper's epsilon shift of the entry point, the new round
+ * never enters the subtree the previous round covered, and where the plane
+ * the ray left that subtree through is crossed exactly at T (the same
+ * number: see kd_ray.h), it takes only the far side. When the ray left
+ * near an edge or corner of the covered box (another face crossed within
+ * the rounding band), it goes down the near side too, with the band, to
+ * visit the cells around the exit point outside the covered subtree. */
 
 /* Rounds from augmented node `start` on [ta, tb], climbing no higher than
  * `stop` (TT_KD_NO_PARENT: up to the root). */
@@ -21,16 +24,18 @@ TT_HD int TT_VARIANT(tt_kd_btr_from)(const tt_kd_view *T, const tt_wray *r, int 
     struct {
         uint32_t node, aug;
         float ta, tb;
+        int holds; /* the subtree holds the covered node                    */
     } stack[TT_KD_STACK];
     tt_kd_band band;
     (void)stats;
     tt_kd_band_init(&band, r);
     uint32_t done = TT_KD_NO_PARENT; /* the node the previous round covered */
+    float restart = -TT_INF;         /* where it ended (its box exit)       */
     int reached = 0;                 /* *end is the leaf reaching the hit   */
     for (;;) {
         const float round_tb = tb;
         uint32_t node = T->aug[start].node, aug = start;
-        int sp = 0;
+        int holds = done != TT_KD_NO_PARENT, sp = 0;
         for (;;) {
             tt_kd_node n = T->nodes[node];
             while (!tt_kd_is_leaf(n.bits)) {
@@ -41,33 +46,44 @@ TT_HD int TT_VARIANT(tt_kd_btr_from)(const tt_kd_view *T, const tt_wray *r, int 
                 const int k = tt_kd_axis(n.bits);
                 const uint32_t left = tt_kd_left(node, n.bits), right = tt_kd_right(n.bits);
                 const float d = r->dir[k];
+                /* Which child holds the covered node (DFS layout: the left
+                 * subtree is [left, right)). */
+                const int lholds = holds && done < right, rholds = holds && !lholds;
                 if (d == 0.0f) {
                     const float o = r->org[k];
-                    if (o < n.u.split) node = left;
-                    else if (o > n.u.split) node = right;
+                    if (o < n.u.split) node = left, holds = lholds;
+                    else if (o > n.u.split) node = right, holds = rholds;
                     else {
                         stack[sp].node = right;
                         stack[sp].aug = aug;
                         stack[sp].ta = ta;
                         stack[sp].tb = tb;
+                        stack[sp].holds = rholds;
                         sp++;
                         node = left;
+                        holds = lholds;
                     }
                 } else {
                     const float ts = (n.u.split - r->org[k]) * r->inv[k];
                     const float e = fabsf(n.u.split) * band.bi[k] + band.bo[k];
-                    const uint32_t first = d < 0.0f ? right : left, second = d < 0.0f ? left : right;
-                    if (ts + e < ta) {
+                    const int neg = d < 0.0f;
+                    const uint32_t first = neg ? right : left, second = neg ? left : right;
+                    const int fholds = neg ? rholds : lholds, sholds = neg ? lholds : rholds;
+                    if (ts + e < ta || (fholds && ts == restart)) {
                         node = second;
+                        holds = sholds;
                     } else if (ts - e > tb) {
                         node = first;
+                        holds = fholds;
                     } else {
                         stack[sp].node = second;
                         stack[sp].aug = aug;
                         stack[sp].ta = tt_kd_max(ta, ts - e);
                         stack[sp].tb = tb;
+                        stack[sp].holds = sholds;
                         sp++;
                         node = first;
+                        holds = fholds;
                         tb = tt_kd_min(tb, ts + e);
                     }
                 }
@@ -93,6 +109,7 @@ TT_HD int TT_VARIANT(tt_kd_btr_from)(const tt_kd_view *T, const tt_wray *r, int 
             aug = stack[sp].aug;
             ta = stack[sp].ta;
             tb = stack[sp].tb;
+            holds = stack[sp].holds;
         }
     round_done:
         if (best->t <= round_tb) return 0;
@@ -106,6 +123,10 @@ TT_HD int TT_VARIANT(tt_kd_btr_from)(const tt_kd_view *T, const tt_wray *r, int 
             if (round_tb < e) {
                 found = 1;
                 done = T->aug[start].node;
+                /* Near an edge of the covered box, the cells around the exit
+                 * point need the near sides too: no shortcut then. */
+                restart = tt_kd_exit_near_edge(&T->aug[start], r, &band, round_tb) ? -TT_INF
+                                                                                   : round_tb;
                 start = a;
                 ta = round_tb;
                 tb = e;
