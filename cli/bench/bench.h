@@ -110,6 +110,8 @@ const char *bench_default_scenes_dir(char *buf, size_t size);
 int bench_scenes_read(tt_context *ctx, const char *dir, const bench_options *o,
                       bench_scene_list *out, FILE *err);
 void bench_scenes_free(bench_scene_list *l);
+/* --quick runs only scenes up to this size (bunny, sibenik) unless named. */
+#define BENCH_QUICK_MAX_TRIANGLES 100000
 /* The tiny unit-test scenes the full matrix leaves out unless named. */
 int bench_scene_is_tiny(const char *name);
 

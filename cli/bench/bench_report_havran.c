@@ -46,12 +46,13 @@ static void table1(const bench_report *rp, tt_build_options def)
     fprintf(f,
             "SAH kd-trees (O(n log n) build) at %ux%u, primary rays only. HTR and SEQ run "
             "on a tree without sparse boxes, BTR and SLTR with boxes every d_min = %d levels "
-            "(the library's default). N_B: sparse boxes; M_KD: the structure's memory; "
+            "(the library's default). Nodes: the kd-tree's nodes; N_B: sparse boxes; M_KD: the "
+            "structure's memory; "
             "r_ITM, N_L, N_I: ray-triangle tests, leaves and interior nodes per ray; T_R: "
             "median time per frame.\n\n",
             rp->o->kd_size.width, rp->o->kd_size.height, def.kdtree.dmin);
-    fprintf(f, "| scene | view | method | N_B | M_KD [MB] | r_ITM | N_L | N_I | T_R [s] | "
-               "x Embree |\n|---|---|---|---|---|---|---|---|---|---|\n");
+    fprintf(f, "| scene | view | method | nodes | N_B | M_KD [MB] | r_ITM | N_L | N_I | T_R [s] "
+               "| x Embree |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (size_t s = 0; s < rp->s->count; s++) {
         const bench_scene *sc = &rp->s->items[s];
         for (size_t v = 0; v < sc->view_count; v++) {
@@ -61,6 +62,7 @@ static void table1(const bench_report *rp, tt_build_options def)
                 fprintf(f, "| %s | %s | %s |", sc->name, sc->views[v].name,
                         bench_kd_traversal_name(tr[i]));
                 int ok = bench_result_ok(r);
+                num_cell(f, ok && r->accel_stats.nodes >= 0 ? r->accel_stats.nodes : NAN, "%.0f");
                 num_cell(f, ok && r->accel_stats.boxes >= 0 ? r->accel_stats.boxes : NAN, "%.0f");
                 num_cell(f, ok ? (double)r->memory_bytes / 1048576.0 : NAN, "%.2f");
                 num_cell(f, per_ray(r, 0), "%.2f");
@@ -74,7 +76,7 @@ static void table1(const bench_report *rp, tt_build_options def)
                 fprintf(f, "\n");
             }
             const bench_result *e = find_embree(rp, s, v);
-            fprintf(f, "| %s | %s | Embree | - |", sc->name, sc->views[v].name);
+            fprintf(f, "| %s | %s | Embree | - | - |", sc->name, sc->views[v].name);
             num_cell(f, bench_result_ok(e) ? (double)e->memory_bytes / 1048576.0 : NAN, "%.2f");
             fprintf(f, " - | - | - |");
             if (bench_result_ok(e))

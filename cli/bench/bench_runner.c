@@ -48,11 +48,9 @@ static void on_stat(void *user, const char *key, double value)
 {
     bench_accel_stats *s = user;
     /* N_B: the kd-tree's augmented nodes, under whichever of these names */
-    if (strcmp(key, "augmented_nodes") == 0 || strcmp(key, "sparse_boxes") == 0 ||
-        strcmp(key, "boxes") == 0)
-        s->boxes = value;
+    if (strcmp(key, "N_B") == 0 || strcmp(key, "augmented_nodes") == 0) s->boxes = value;
     if (strcmp(key, "nodes") == 0) s->nodes = value;
-    if (strcmp(key, "height") == 0 || strcmp(key, "depth") == 0) s->height = value;
+    if (strcmp(key, "height") == 0 || strcmp(key, "depth_max") == 0) s->height = value;
     size_t len = strlen(s->all);
     if (len + 1 < sizeof s->all)
         snprintf(s->all + len, sizeof s->all - len, "%s%s=%.10g", len ? ";" : "", key, value);

@@ -178,7 +178,11 @@ static int read_scenes_tsv(const char *dir, const bench_options *o, bench_scene_
             rc = -1;
             break;
         }
+        long tris = c_tris >= 0 && c_tris < n ? strtol(f[c_tris], NULL, 10) : -1;
         if (!selected(o, f[c_name])) continue;
+        /* --quick leaves out the big scenes (their kd-tree builds alone take
+         * most of a minute) unless they are named */
+        if (o->quick && !o->scene_names && tris > BENCH_QUICK_MAX_TRIANGLES) continue;
         bench_scene *grown = realloc(out->items, (out->count + 1) * sizeof *grown);
         if (!grown) {
             rc = -1;
@@ -189,7 +193,7 @@ static int read_scenes_tsv(const char *dir, const bench_options *o, bench_scene_
         memset(s, 0, sizeof *s);
         snprintf(s->name, sizeof s->name, "%s", f[c_name]);
         snprintf(s->path, sizeof s->path, "%s/%s", dir, f[c_file]);
-        s->triangles = c_tris >= 0 && c_tris < n ? strtol(f[c_tris], NULL, 10) : -1;
+        s->triangles = tris;
     }
     free(text);
     return rc;

@@ -10,10 +10,11 @@
  * tmin and tfar the largest float below tmax, which makes "t <= tfar" the
  * same predicate as "t < tmax" for a float t. Embree's traversal clamps
  * tnear to 0, so a negative tmin is honoured by moving the origin to
- * org + tmin * dir first. Embree computes t its own way (a Pluecker test
+ * org + tmin * dir first. Embree decides hits its own way (a Pluecker test
  * with a one-ulp tolerance on the edges), so a hit within an ulp or so of
  * either end, or of a silhouette edge, may still be decided differently
- * from our watertight test; that is the only inexactness left.
+ * from our watertight test; that is the only inexactness left. The t, u, v
+ * of a closest hit are our own (see embree_intersect).
  *
  * A known Embree limitation (shared by any slab test that uses a finite
  * stand-in for 1/0): a ray with a zero direction component lying exactly in
@@ -32,6 +33,7 @@
 #include <string.h>
 
 #include "accel/accel.h"
+#include "geometry/triangle.h"
 
 #define EMBREE_MESSAGE_MAX 512
 
@@ -237,10 +239,25 @@ static void embree_intersect(const tt_accel *a, const tt_wray *r, tt_hit *hit,
     rtcInitIntersectContext(&ic);
     rtcIntersect1(e->scene, &ic, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
-    hit->t = rh.ray.tfar + shift;
-    hit->u = rh.hit.u; /* Embree's u, v weigh vertices 1 and 2, as ours do */
-    hit->v = rh.hit.v;
     hit->prim = rh.hit.primID;
+    /* Embree chose the triangle; t, u, v are recomputed with the project's
+     * watertight test so that a hit on the same triangle gives the same
+     * bits in every structure (triangle.h's contract). Otherwise Embree's t,
+     * a few ulps off ours, moves the shadow ray's origin, and a grazing
+     * shadow ray can flip its flag. When the watertight test refuses the
+     * triangle (a ray within an ulp of an edge or of the interval's ends,
+     * which Embree's tolerant test accepted), Embree's own values stay. */
+    const float *p = a->scene->tri + 9 * (size_t)rh.hit.primID;
+    float t, u, v;
+    if (tt_intersect_triangle(r, p, p + 3, p + 6, r->tmax, &t, &u, &v)) {
+        hit->t = t;
+        hit->u = u;
+        hit->v = v;
+    } else {
+        hit->t = rh.ray.tfar + shift;
+        hit->u = rh.hit.u; /* Embree's u, v weigh vertices 1 and 2, as ours do */
+        hit->v = rh.hit.v;
+    }
 }
 
 static int embree_occluded(const tt_accel *a, const tt_wray *r, tt_trace_args *args)
