@@ -163,6 +163,8 @@ typedef struct bench_result {
     const bench_run *run;
     int ok; /* 0: error holds why                            */
     char error[256];
+    double load_s; /* loading the scene (once per scene)             */
+    size_t triangles, vertices;
     double build_s; /* of the structure this run used                 */
     size_t memory_bytes;
     bench_accel_stats accel_stats;

@@ -4,49 +4,21 @@
 
 #include "bench/bench.h"
 
-static const char *const columns[] = {"scene",
-                                      "view",
-                                      "width",
-                                      "height",
-                                      "accel",
-                                      "traversal",
-                                      "options",
-                                      "rays",
-                                      "tables",
-                                      "status",
-                                      "error",
-                                      "threads",
-                                      "repeats",
-                                      "build_s",
-                                      "memory_bytes",
-                                      "accel_stats",
-                                      "primary_rays",
-                                      "primary_hits",
-                                      "shadow_rays",
-                                      "shadow_occluded",
-                                      "trace_min_s",
-                                      "trace_median_s",
-                                      "primary_min_s",
-                                      "shadow_min_s",
-                                      "mrays_per_s_median",
-                                      "mrays_per_s_best",
-                                      "primary_mrays_per_s",
-                                      "shadow_mrays_per_s",
-                                      "primary_nodes_per_ray",
-                                      "primary_interior_per_ray",
-                                      "primary_leaves_per_ray",
-                                      "primary_boxes_per_ray",
-                                      "primary_triangles_per_ray",
-                                      "shadow_nodes_per_ray",
-                                      "shadow_interior_per_ray",
-                                      "shadow_leaves_per_ray",
-                                      "shadow_boxes_per_ray",
-                                      "shadow_triangles_per_ray",
-                                      "embree_trace_median_s",
-                                      "time_vs_embree",
-                                      "agree_embree_pixels",
-                                      "compared_pixels",
-                                      "agree_embree_pct"};
+/* clang-format off */
+static const char *const columns[] = {
+    "scene", "view", "width", "height", "triangles", "vertices", "load_s", "accel",
+    "traversal", "options", "rays", "tables", "status", "error", "threads", "repeats",
+    "build_s", "memory_bytes", "accel_stats", "primary_rays", "primary_hits", "shadow_rays",
+    "shadow_occluded", "trace_min_s", "trace_median_s", "primary_min_s", "shadow_min_s",
+    "mrays_per_s_median", "mrays_per_s_best", "primary_mrays_per_s", "shadow_mrays_per_s",
+    "primary_nodes_per_ray", "primary_interior_per_ray", "primary_leaves_per_ray",
+    "primary_boxes_per_ray", "primary_triangles_per_ray", "shadow_nodes_per_ray",
+    "shadow_interior_per_ray", "shadow_leaves_per_ray", "shadow_boxes_per_ray",
+    "shadow_triangles_per_ray", "all_nodes_per_ray", "all_interior_per_ray",
+    "all_leaves_per_ray", "all_boxes_per_ray", "all_triangles_per_ray",
+    "embree_trace_median_s", "time_vs_embree", "agree_embree_pixels", "compared_pixels",
+    "agree_embree_pct"};
+/* clang-format on */
 
 static void field(FILE *f, const char *s, int last)
 {
@@ -108,6 +80,10 @@ int bench_write_csv(const char *path, const bench_scene_list *sc, const bench_ma
         field(f, s->name, 0);
         field(f, s->views[run->view].name, 0);
         fprintf(f, "%u,%u,", run->size.width, run->size.height);
+        if (r->ok)
+            fprintf(f, "%zu,%zu,%.6g,", r->triangles, r->vertices, r->load_s);
+        else
+            fputs(",,,", f);
         field(f, run->build.accel, 0);
         field(f, bench_traversal_name(&run->build), 0);
         bench_options_string(&run->build, buf, sizeof buf);
@@ -120,7 +96,7 @@ int bench_write_csv(const char *path, const bench_scene_list *sc, const bench_ma
         field(f, r->ok ? "" : r->error, 0);
         if (!r->ok) {
             /* the remaining columns stay empty */
-            for (size_t k = 11; k < nc; k++) fputs(k + 1 == nc ? "\n" : ",", f);
+            for (size_t k = 14; k < nc; k++) fputs(k + 1 == nc ? "\n" : ",", f);
             continue;
         }
         fprintf(f, "%d,%d,", res->threads, r->repeats);
@@ -141,6 +117,14 @@ int bench_write_csv(const char *path, const bench_scene_list *sc, const bench_ma
         num(f, su->shadow_mrays_per_s);
         stats_fields(f, &su->primary_stats, su->has_stats);
         stats_fields(f, &su->shadow_stats, su->has_stats && run->rays == BENCH_PRIMARY_SHADOW);
+        tt_ray_stats all = su->primary_stats;
+        all.rays += su->shadow_stats.rays;
+        all.nodes += su->shadow_stats.nodes;
+        all.interior += su->shadow_stats.interior;
+        all.leaves += su->shadow_stats.leaves;
+        all.boxes += su->shadow_stats.boxes;
+        all.triangles += su->shadow_stats.triangles;
+        stats_fields(f, &all, su->has_stats);
         if (r->embree && r->embree->ok) {
             num(f, bench_time_s(r->embree));
             num(f, bench_time_s(r) / bench_time_s(r->embree));

@@ -12,6 +12,7 @@
 
 typedef struct scene_state {
     tt_scene *scene;
+    double load_s;
     /* Embree's hit buffer per run index (NULL for non-Embree runs). */
     uint8_t **embree_hits;
 } scene_state;
@@ -187,6 +188,9 @@ static void build_and_render(tt_context *ctx, const bench_options *o,
             r->ok = 0;
             snprintf(r->error, sizeof r->error, "%s", msg);
         } else {
+            r->load_s = st->load_s;
+            r->triangles = tt_scene_triangle_count(st->scene);
+            r->vertices = tt_scene_vertex_count(st->scene);
             r->build_s = tt_accel_build_seconds(accel);
             r->memory_bytes = tt_accel_memory_bytes(accel);
             r->accel_stats = as;
@@ -256,7 +260,8 @@ int bench_run_all(tt_context *ctx, const bench_options *o, const bench_scene_lis
         int any = 0;
         for (size_t i = 0; i < m->count; i++) any |= m->runs[i].scene == si && !done[i];
         if (!any) continue;
-        scene_state st = {NULL, calloc(m->count, sizeof(uint8_t *))};
+        scene_state st = {NULL, 0.0, calloc(m->count, sizeof(uint8_t *))};
+        double t_load = bench_now();
         if (!st.embree_hits || tt_scene_load(ctx, s->path, &st.scene) != TT_OK) {
             const char *why = st.embree_hits ? tt_context_last_error(ctx) : "out of memory";
             fprintf(err, "%streetrace bench: scene %s: %s\n", prog.tty ? "\r\033[K" : "", s->name,
@@ -270,6 +275,7 @@ int bench_run_all(tt_context *ctx, const bench_options *o, const bench_scene_lis
             free(st.embree_hits);
             continue;
         }
+        st.load_s = bench_now() - t_load;
         /* Embree first (every other run is compared with it), then the rest
          * in the matrix's order, one build at a time */
         for (int pass = 0; pass < 2; pass++) {
