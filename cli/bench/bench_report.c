@@ -44,7 +44,7 @@ void bench_format_seconds(char *buf, size_t size, double s)
     else if (s >= 1.0)
         snprintf(buf, size, "%.2f s", s);
     else
-        snprintf(buf, size, "%.3g s", s);
+        snprintf(buf, size, "%#.3g s", s);
 }
 
 static void seconds_cell(FILE *f, double s)
