@@ -174,6 +174,10 @@ typedef struct bench_result {
      * itself or when Embree is absent), and the agreement with it. */
     const struct bench_result *embree;
     uint64_t agree_pixels, compared_pixels;
+    /* The pixels that disagree with Embree are retraced with bruteforce, the
+     * ground truth (up to BENCH_ARBITRATE_MAX of them): how many were, and on
+     * how many this run's pixel equals bruteforce's (then Embree was off). */
+    uint64_t arbitrated_pixels, ours_match_bruteforce;
 } bench_result;
 
 typedef struct bench_results {
@@ -202,6 +206,14 @@ double bench_mrays(const bench_result *r);
  * README) that agree: both miss, or the same triangle, or t within 1e-4
  * relative, and equal shadow flags. */
 uint64_t bench_agree_count(const uint8_t *a, const uint8_t *b, uint64_t pixels);
+/* The same rule for one pixel (12 bytes each). */
+int bench_pixel_agrees(const uint8_t *a, const uint8_t *b);
+/* Bruteforce's pixel (x, y) of a width x height frame of the camera, encoded
+ * as in a hit buffer (with the shadow flag when shadows is set). */
+void bench_bruteforce_pixel(const tt_scene *scene, const tt_accel *bruteforce,
+                            const tt_camera *camera, bench_size size, uint32_t x, uint32_t y,
+                            int shadows, uint8_t out[12]);
+#define BENCH_ARBITRATE_MAX 1000
 
 /* ----------------------------------------------------------------- writers */
 

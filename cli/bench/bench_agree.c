@@ -21,7 +21,7 @@ static float le_float(const uint8_t *p)
     return f;
 }
 
-static int pixel_agrees(const uint8_t *a, const uint8_t *b)
+int bench_pixel_agrees(const uint8_t *a, const uint8_t *b)
 {
     if (le32(a + 8) != le32(b + 8)) return 0; /* shadow flags */
     uint32_t pa = le32(a), pb = le32(b);
@@ -35,6 +35,35 @@ static int pixel_agrees(const uint8_t *a, const uint8_t *b)
 uint64_t bench_agree_count(const uint8_t *a, const uint8_t *b, uint64_t pixels)
 {
     uint64_t n = 0;
-    for (uint64_t i = 0; i < pixels; i++) n += (uint64_t)pixel_agrees(a + 12 * i, b + 12 * i);
+    for (uint64_t i = 0; i < pixels; i++) n += (uint64_t)bench_pixel_agrees(a + 12 * i, b + 12 * i);
     return n;
+}
+
+static void put32(uint8_t *p, uint32_t v)
+{
+    p[0] = (uint8_t)v;
+    p[1] = (uint8_t)(v >> 8);
+    p[2] = (uint8_t)(v >> 16);
+    p[3] = (uint8_t)(v >> 24);
+}
+
+void bench_bruteforce_pixel(const tt_scene *scene, const tt_accel *bruteforce,
+                            const tt_camera *camera, bench_size size, uint32_t x, uint32_t y,
+                            int shadows, uint8_t out[12])
+{
+    tt_ray r, sr;
+    tt_hit h;
+    int occluded = 0;
+    h.prim = TT_INVALID_ID;
+    h.t = INFINITY;
+    if (tt_camera_ray(camera, size.width, size.height, x, y, &r) == TT_OK &&
+        tt_intersect1(bruteforce, &r, &h) == TT_OK && shadows &&
+        tt_shadow_ray(scene, camera, &r, &h, &sr))
+        tt_occluded1(bruteforce, &sr, &occluded);
+    uint32_t tbits;
+    float t = h.prim == TT_INVALID_ID ? INFINITY : h.t;
+    memcpy(&tbits, &t, sizeof tbits);
+    put32(out, h.prim);
+    put32(out + 4, tbits);
+    put32(out + 8, (uint32_t)occluded);
 }

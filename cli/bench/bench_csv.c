@@ -17,7 +17,7 @@ static const char *const columns[] = {
     "shadow_triangles_per_ray", "all_nodes_per_ray", "all_interior_per_ray",
     "all_leaves_per_ray", "all_boxes_per_ray", "all_triangles_per_ray",
     "embree_trace_median_s", "time_vs_embree", "agree_embree_pixels", "compared_pixels",
-    "agree_embree_pct"};
+    "agree_embree_pct", "arbitrated_pixels", "ours_match_bruteforce"};
 /* clang-format on */
 
 static void field(FILE *f, const char *s, int last)
@@ -134,9 +134,11 @@ int bench_write_csv(const char *path, const bench_scene_list *sc, const bench_ma
         if (r->compared_pixels) {
             u64(f, r->agree_pixels);
             u64(f, r->compared_pixels);
-            fprintf(f, "%.4f\n", 100.0 * (double)r->agree_pixels / (double)r->compared_pixels);
+            fprintf(f, "%.4f,", 100.0 * (double)r->agree_pixels / (double)r->compared_pixels);
+            u64(f, r->arbitrated_pixels);
+            fprintf(f, "%llu\n", (unsigned long long)r->ours_match_bruteforce);
         } else {
-            fputs(",,\n", f);
+            fputs(",,,,\n", f);
         }
     }
     int bad = ferror(f);

@@ -12,6 +12,7 @@
 
 typedef struct scene_state {
     tt_scene *scene;
+    tt_accel *bruteforce; /* built when a run first disagrees with Embree */
     double load_s;
     /* Embree's hit buffer per run index (NULL for non-Embree runs). */
     uint8_t **embree_hits;
@@ -79,6 +80,27 @@ static long embree_partner(const bench_matrix *m, const bench_run *run)
     return found ? (long)(found - m->runs) : -1;
 }
 
+/* Retraces the pixels where this run and Embree disagree with bruteforce,
+ * so the report can say who was right. */
+static void arbitrate(tt_context *ctx, scene_state *st, const bench_run *run, const tt_camera *cam,
+                      const uint8_t *hits, const uint8_t *embree_hits, bench_result *r)
+{
+    if (!st->bruteforce) {
+        tt_build_options b = bench_named_build("bruteforce");
+        if (tt_accel_build(ctx, st->scene, &b, &st->bruteforce) != TT_OK) return;
+    }
+    uint64_t pixels = (uint64_t)run->size.width * run->size.height;
+    for (uint64_t i = 0; i < pixels && r->arbitrated_pixels < BENCH_ARBITRATE_MAX; i++) {
+        if (bench_pixel_agrees(hits + 12 * i, embree_hits + 12 * i)) continue;
+        uint8_t truth[12];
+        bench_bruteforce_pixel(st->scene, st->bruteforce, cam, run->size,
+                               (uint32_t)(i % run->size.width), (uint32_t)(i / run->size.width),
+                               run->rays == BENCH_PRIMARY_SHADOW, truth);
+        r->arbitrated_pixels++;
+        r->ours_match_bruteforce += (uint64_t)bench_pixel_agrees(hits + 12 * i, truth);
+    }
+}
+
 static void render_one(tt_context *ctx, const bench_options *o, const bench_scene_list *scenes,
                        const bench_matrix *m, size_t idx, const tt_accel *accel, scene_state *st,
                        const char *out_dir, bench_results *res)
@@ -122,6 +144,7 @@ static void render_one(tt_context *ctx, const bench_options *o, const bench_scen
             r->embree = &res->items[e];
             r->compared_pixels = pixels;
             r->agree_pixels = bench_agree_count(hits, st->embree_hits[e], pixels);
+            if (r->agree_pixels < pixels) arbitrate(ctx, st, run, cam, hits, st->embree_hits[e], r);
         }
     }
     if (run->heatmap) {
@@ -260,7 +283,7 @@ int bench_run_all(tt_context *ctx, const bench_options *o, const bench_scene_lis
         int any = 0;
         for (size_t i = 0; i < m->count; i++) any |= m->runs[i].scene == si && !done[i];
         if (!any) continue;
-        scene_state st = {NULL, 0.0, calloc(m->count, sizeof(uint8_t *))};
+        scene_state st = {NULL, NULL, 0.0, calloc(m->count, sizeof(uint8_t *))};
         double t_load = bench_now();
         if (!st.embree_hits || tt_scene_load(ctx, s->path, &st.scene) != TT_OK) {
             const char *why = st.embree_hits ? tt_context_last_error(ctx) : "out of memory";
@@ -286,6 +309,7 @@ int bench_run_all(tt_context *ctx, const bench_options *o, const bench_scene_lis
                 build_and_render(ctx, o, scenes, m, i, &st, done, out_dir, res, &prog);
             }
         }
+        tt_accel_destroy(st.bruteforce);
         for (size_t i = 0; i < m->count; i++) free(st.embree_hits[i]);
         free(st.embree_hits);
         tt_scene_destroy(st.scene);

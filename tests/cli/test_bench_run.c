@@ -22,7 +22,7 @@ static const char *const columns[] = {
     "shadow_triangles_per_ray", "all_nodes_per_ray", "all_interior_per_ray",
     "all_leaves_per_ray", "all_boxes_per_ray", "all_triangles_per_ray",
     "embree_trace_median_s", "time_vs_embree", "agree_embree_pixels", "compared_pixels",
-    "agree_embree_pct"};
+    "agree_embree_pct", "arbitrated_pixels", "ours_match_bruteforce"};
 /* clang-format on */
 #define NCOL (sizeof columns / sizeof columns[0])
 
@@ -147,6 +147,7 @@ static void check_row(const row *r)
     CHECK(num(r, "primary_nodes_per_ray") > 0.0 && num(r, "primary_triangles_per_ray") > 0.0);
     CHECK(num(r, "embree_trace_median_s") > 0.0 && num(r, "time_vs_embree") > 0.0);
     CHECK(num(r, "compared_pixels") == 192);
+    CHECK(num(r, "arbitrated_pixels") == 192 - num(r, "agree_embree_pixels"));
     CHECK_MSG(num(r, "agree_embree_pixels") == 192, "%s %s %s: %s of 192 pixels agree", acc,
               get(r, "traversal"), get(r, "options"), get(r, "agree_embree_pixels"));
 }
