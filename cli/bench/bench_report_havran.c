@@ -132,8 +132,8 @@ static void figure3_view(const bench_report *rp, size_t s, size_t v)
         fprintf(f, "| %d |", rp->o->dmins[i]);
         num_cell(f, ni[0][i], "%.2f");
         num_cell(f, ni[1][i], "%.2f");
-        num_cell(f, tm[0][i], "%.4g");
-        num_cell(f, tm[1][i], "%.4g");
+        num_cell(f, tm[0][i], "%#.3g");
+        num_cell(f, tm[1][i], "%#.3g");
         num_cell(f, bench_result_ok(b) && b->accel_stats.boxes >= 0 ? b->accel_stats.boxes : NAN,
                  "%.0f");
         fprintf(f, "\n");
