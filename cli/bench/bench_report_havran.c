@@ -69,7 +69,7 @@ static void table1(const bench_report *rp, tt_build_options def)
                 num_cell(f, per_ray(r, 1), "%.2f");
                 num_cell(f, per_ray(r, 2), "%.2f");
                 if (ok)
-                    fprintf(f, " %.3f |", bench_time_s(r));
+                    fprintf(f, " %#.3g |", bench_time_s(r));
                 else
                     bench_cell_time(f, r);
                 bench_cell_vs_embree(f, r);
@@ -80,7 +80,7 @@ static void table1(const bench_report *rp, tt_build_options def)
             num_cell(f, bench_result_ok(e) ? (double)e->memory_bytes / 1048576.0 : NAN, "%.2f");
             fprintf(f, " - | - | - |");
             if (bench_result_ok(e))
-                fprintf(f, " %.3f | 1.00x |\n", bench_time_s(e));
+                fprintf(f, " %#.3g | 1.00x |\n", bench_time_s(e));
             else
                 fprintf(f, " - | - |\n");
         }
