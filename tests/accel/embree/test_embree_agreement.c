@@ -44,8 +44,8 @@ static void check_scene(tt_context *ctx, const char *file, const char *view)
     /* on the same triangle, t is bit-identical to ours (embree.c refines
      * Embree's hit with the project's watertight test) */
     size_t same = 0, differ = 0;
-    for (uint32_t y = 0; y < SIZE; y++) {
-        for (uint32_t x = 0; x < SIZE; x++) {
+    for (uint32_t y = 0; y < SIZE; y += 3) { /* every 9th pixel: bruteforce is slow */
+        for (uint32_t x = 0; x < SIZE; x += 3) {
             tt_ray r;
             tt_hit he, hb;
             tt_camera_ray(&cam, SIZE, SIZE, x, y, &r);
