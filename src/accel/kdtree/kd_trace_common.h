@@ -46,7 +46,21 @@ typedef struct tt_kd_key {
     float t;
     int rank;
     float pos; /* plane position, negated for a ray going down its axis */
+    float err; /* rounding band of t (kd_ray.h): the true crossing is within t +- err */
 } tt_kd_key;
+
+/* The rounding band of the crossing of plane x_k = p (kd_ray.h's e). */
+TT_HD float tt_kd_cross_err(const tt_wray *r, int k, float p)
+{
+    return TT_KD_BAND * fabsf(r->inv[k]) * (fabsf(p) + fabsf(r->org[k]));
+}
+
+/* Whether crossing c may, for the true ray, come on the other side of
+ * entry point e: their distance is within both rounding bands. */
+TT_HD int tt_kd_near(const tt_kd_key *c, const tt_kd_key *e)
+{
+    return fabsf(c->t - e->t) <= c->err + e->err;
+}
 
 #define TT_KD_CORNER_TIE 8u /* in *ties: equal crossings needed the ranks */
 
@@ -86,15 +100,35 @@ TT_HD void tt_kd_order_init(tt_kd_order *o, unsigned p)
 TT_HD tt_kd_key tt_kd_box_exit_key(const tt_kd_aug *a, const tt_wray *r, const tt_kd_order *o,
                                    unsigned *ties)
 {
-    tt_kd_key best = {TT_INF, 3, 0.0f};
+    tt_kd_key best = {TT_INF, 3, 0.0f, 0.0f};
     for (int k = 0; k < 3; k++) {
         if (r->dir[k] == 0.0f) continue;
         const int neg = r->dir[k] < 0.0f;
         const float face = neg ? TT_LDG(&a->lo[k]) : TT_LDG(&a->hi[k]);
-        tt_kd_key c = {(face - r->org[k]) * r->inv[k], o->rank[k], neg ? -face : face};
+        tt_kd_key c = {(face - r->org[k]) * r->inv[k], o->rank[k], neg ? -face : face,
+                       tt_kd_cross_err(r, k, face)};
         if (tt_kd_key_after(&best, &c, ties)) best = c;
     }
     return best;
+}
+
+/* Whether entry point e lies within the rounding band of a face of box a
+ * (d_k == 0 is exact: the ray's coordinate is org_k itself). Cells across
+ * such a face lie outside the box, so searching around e must start
+ * higher up. */
+TT_HD int tt_kd_near_faces(const tt_kd_aug *a, const tt_wray *r, const tt_kd_key *e)
+{
+    for (int k = 0; k < 3; k++) {
+        if (r->dir[k] == 0.0f) continue;
+        for (int side = 0; side < 2; side++) {
+            const float face = side ? TT_LDG(&a->hi[k]) : TT_LDG(&a->lo[k]);
+            tt_kd_key c;
+            c.t = (face - r->org[k]) * r->inv[k];
+            c.err = tt_kd_cross_err(r, k, face);
+            if (tt_kd_near(&c, e)) return 1;
+        }
+    }
+    return 0;
 }
 #endif
 
@@ -141,12 +175,16 @@ TT_HD int TT_VARIANT(tt_kd_leaf)(const tt_kd_view *T, tt_kd_node leaf, const tt_
  * (bit k: 0 left, 1 right) and records the axis in *ties.
  *
  * *last and *tup follow the deepest augmented node passed (Algorithm 3's
- * lastAugmentedNode and t_up). */
+ * lastAugmentedNode and t_up). *amb counts the nodes whose plane the ray
+ * crosses within the rounding band of the entry point (tt_kd_near): there
+ * the computed choice of child may differ from where the triangle test
+ * sees the ray, and the caller searches the other children too
+ * (tt_kd_around). */
 TT_HD tt_kd_node TT_VARIANT(tt_kd_descend)(const tt_kd_view *T, const tt_wray *r,
                                            const tt_kd_order *ord, uint32_t *node,
                                            const tt_kd_key *tentry, tt_kd_key *texit,
                                            unsigned *ties, uint32_t *last, tt_kd_key *tup,
-                                           tt_ray_stats *stats)
+                                           unsigned *amb, tt_ray_stats *stats)
 {
     uint32_t i = *node;
     tt_kd_node n = T->nodes[i];
@@ -170,6 +208,8 @@ TT_HD tt_kd_node TT_VARIANT(tt_kd_descend)(const tt_kd_view *T, const tt_wray *r
             c.t = (n.u.split - r->org[k]) * r->inv[k];
             c.rank = ord->rank[k];
             c.pos = d < 0.0f ? -n.u.split : n.u.split;
+            c.err = tt_kd_cross_err(r, k, n.u.split);
+            *amb += (unsigned)tt_kd_near(&c, tentry);
             if (tt_kd_key_after(&c, tentry, ties)) {
                 i = d < 0.0f ? right : left;
                 if (tt_kd_key_after(&te, &c, ties)) te = c;
@@ -186,4 +226,74 @@ TT_HD tt_kd_node TT_VARIANT(tt_kd_descend)(const tt_kd_view *T, const tt_wray *r
     *node = i;
     *texit = te;
     return n;
+}
+
+/* A descent like tt_kd_descend's from augmented node `from` at entry point
+ * *tentry, taking the other child at the i-th near-ambiguous node (see
+ * tt_kd_descend's *amb) where bit i of mask is set. *amb: how many such
+ * nodes the path met. */
+TT_HD tt_kd_node TT_VARIANT(tt_kd_descend_mask)(const tt_kd_view *T, const tt_wray *r,
+                                                const tt_kd_order *ord, uint32_t from,
+                                                const tt_kd_key *tentry, uint32_t mask,
+                                                unsigned *amb, tt_ray_stats *stats)
+{
+    uint32_t i = T->aug[from].node;
+    tt_kd_node n = T->nodes[i];
+    unsigned ties = 0, count = 0;
+    (void)stats;
+    while (!tt_kd_is_leaf(n.bits)) {
+        TT_COUNT(stats, interior, 1);
+        TT_COUNT(stats, nodes, 1);
+        const int k = tt_kd_axis(n.bits);
+        const uint32_t left = tt_kd_left(i, n.bits), right = tt_kd_right(n.bits);
+        const float d = r->dir[k];
+        if (d == 0.0f) {
+            if (r->org[k] < n.u.split) i = left;
+            else if (r->org[k] > n.u.split) i = right;
+            else i = ((ord->sides >> k) & 1u) ? right : left;
+        } else {
+            tt_kd_key c;
+            c.t = (n.u.split - r->org[k]) * r->inv[k];
+            c.rank = ord->rank[k];
+            c.pos = d < 0.0f ? -n.u.split : n.u.split;
+            c.err = tt_kd_cross_err(r, k, n.u.split);
+            int near_first = tt_kd_key_after(&c, tentry, &ties);
+            if (tt_kd_near(&c, tentry)) {
+                if (count < 32u && ((mask >> count) & 1u)) near_first = !near_first;
+                count++;
+            }
+            i = (near_first == (d < 0.0f)) ? right : left;
+        }
+        n = T->nodes[i];
+    }
+    *amb = count;
+    return n;
+}
+
+/* At most 2^TT_KD_AROUND_MAX descents around one point: far more near-equal
+ * planes on one path than any real tree has. */
+#define TT_KD_AROUND_MAX 12u
+
+/* The leaves around entry point *tentry that a near-ambiguous choice may
+ * hide: every combination of choices at the near-ambiguous nodes below
+ * augmented node `from`, one stackless descent each (mask bit i flips the
+ * i-th such node of the path). The combination 0 (the computed path) is
+ * skipped when the caller has already visited it and passes its count in
+ * amb. Leaves are tested on the ray's whole [tmin, best) like any other,
+ * so extra leaves cost only time. 1 on an any-hit. */
+TT_HD int TT_VARIANT(tt_kd_around)(const tt_kd_view *T, const tt_wray *r, int any,
+                                   const tt_kd_order *ord, uint32_t from, const tt_kd_key *tentry,
+                                   int skip_computed, unsigned amb, tt_kd_best *best,
+                                   tt_ray_stats *stats)
+{
+    unsigned most = amb;
+    for (uint32_t m = skip_computed ? 1u : 0u;
+         m < (1u << (most < TT_KD_AROUND_MAX ? most : TT_KD_AROUND_MAX)); m++) {
+        unsigned count;
+        tt_kd_node leaf = TT_VARIANT(tt_kd_descend_mask)(T, r, ord, from, tentry, m, &count, stats);
+        if (count > most) most = count;
+        if (count < 32u && (m >> count) != 0u) continue; /* same path as a smaller mask */
+        if (TT_VARIANT(tt_kd_leaf)(T, leaf, r, any, best, stats)) return 1;
+    }
+    return 0;
 }

@@ -16,31 +16,71 @@
  * several split planes) a pass sees only some of them, so such a ray is
  * traced once per way of ordering the tie (see tt_kd_order), the passes
  * sharing the closest hit. Only rays that meet an exact tie pay for more
- * than one pass. */
+ * than one pass.
+ *
+ * Near-exact ties (a ray aimed at a vertex or at a point where planes
+ * cross) meet planes at distances that differ only by rounding, so the
+ * computed path may skip a cell the triangle test sees the ray in. Each
+ * point location therefore also counts the planes crossed within the
+ * rounding band of its entry point and, if there are any, visits the
+ * leaves reached by the other choices there (tt_kd_around: bounded
+ * re-descents from the same cached box, no stack); if the entry point lies
+ * within the band of a face of that box, from the root. The ray's last
+ * exit point is searched around the same way, the scene box is entered
+ * with the band, and a pass stops only at a hit clearly (by more than the
+ * band) before the current exit. */
+
+/* The searches around entry point *tentry of a descent from augmented node
+ * `from` that met `amb` near-ambiguous nodes (see tt_kd_around). */
+TT_HD int TT_VARIANT(tt_kd_near_cells)(const tt_kd_view *T, const tt_wray *r, int any,
+                                       const tt_kd_order *ord, uint32_t from,
+                                       const tt_kd_key *tentry, unsigned amb, tt_kd_best *best,
+                                       tt_ray_stats *stats)
+{
+    if (from != 0 && tt_kd_near_faces(&T->aug[from], r, tentry)) {
+        TT_COUNT(stats, boxes, 1);
+        return TT_VARIANT(tt_kd_around)(T, r, any, ord, 0, tentry, 0, 0, best, stats);
+    }
+    if (amb == 0) return 0;
+    return TT_VARIANT(tt_kd_around)(T, r, any, ord, from, tentry, 1, amb, best, stats);
+}
+
+#ifndef TT_KD_DONE_BEFORE_DEFINED
+#define TT_KD_DONE_BEFORE_DEFINED
+/* Whether a pass with the closest hit so far at t must still go on past
+ * exit: a hit before exit by more than the band cannot be beaten. */
+TT_HD int tt_kd_done_before(float t, const tt_kd_key *exit)
+{
+    return t < exit->t - 2.0f * exit->err;
+}
+#endif
 
 /* One SLTR pass from augmented node `start`, entering at ta, climbing no
  * higher than `stop` (TT_KD_NO_PARENT: up to the root). 1 on an any-hit. */
 TT_HD int TT_VARIANT(tt_kd_sltr_pass)(const tt_kd_view *T, const tt_wray *r, int any,
                                       const tt_kd_order *ord, uint32_t start, float ta,
-                                      uint32_t stop, unsigned *ties, tt_kd_best *best,
+                                      float ta_err, uint32_t stop, unsigned *ties, tt_kd_best *best,
                                       uint32_t *end, tt_ray_stats *stats)
 {
     uint32_t last = start;
     tt_kd_key tup = tt_kd_box_exit_key(&T->aug[start], r, ord, ties);
-    tt_kd_key tentry = {ta, -1, -TT_INF};
+    tt_kd_key tentry = {ta, -1, -TT_INF, ta_err};
     for (;;) {
+        const uint32_t from = last;
         uint32_t node = T->aug[last].node;
+        unsigned amb = 0;
         tt_kd_key texit = tup;
         tt_kd_node leaf = TT_VARIANT(tt_kd_descend)(T, r, ord, &node, &tentry, &texit, ties, &last,
-                                                    &tup, stats);
-        if (TT_VARIANT(tt_kd_leaf)(T, leaf, r, any, best, stats)) {
+                                                    &tup, &amb, stats);
+        if (TT_VARIANT(tt_kd_leaf)(T, leaf, r, any, best, stats) ||
+            TT_VARIANT(tt_kd_near_cells)(T, r, any, ord, from, &tentry, amb, best, stats)) {
             *end = last;
             return 1;
         }
         /* The ray ends in this leaf's box (or, past the last leaf, on the
          * scene box right behind it). */
         if (best->prim != TT_INVALID_ID) *end = last;
-        if (best->t <= texit.t) return 0;
+        if (tt_kd_done_before(best->t, &texit)) return 0;
         tentry = texit;
         if (tt_kd_key_after(&tup, &tentry, ties)) continue; /* still inside the last box */
         int found = 0;
@@ -55,7 +95,9 @@ TT_HD int TT_VARIANT(tt_kd_sltr_pass)(const tt_kd_view *T, const tt_wray *r, int
                 tup = e;
             }
         }
-        if (!found) return 0;
+        if (!found) /* left the scene (or the box `stop`): search around the exit */
+            return stop == TT_KD_NO_PARENT &&
+                   TT_VARIANT(tt_kd_around)(T, r, any, ord, 0, &tentry, 0, 0, best, stats);
     }
 }
 
@@ -63,25 +105,30 @@ TT_HD int TT_VARIANT(tt_kd_sltr_pass)(const tt_kd_view *T, const tt_wray *r, int
  * root. */
 TT_HD int TT_VARIANT(tt_kd_seq_pass)(const tt_kd_view *T, const tt_wray *r, int any,
                                      const tt_kd_order *ord, uint32_t start, float ta,
-                                     unsigned *ties, tt_kd_best *best, uint32_t *end,
+                                     float ta_err, unsigned *ties, tt_kd_best *best, uint32_t *end,
                                      tt_ray_stats *stats)
 {
     const tt_kd_key root_exit = tt_kd_box_exit_key(&T->aug[0], r, ord, ties);
     uint32_t node = T->aug[start].node, last = start;
-    tt_kd_key tentry = {ta, -1, -TT_INF};
+    tt_kd_key tentry = {ta, -1, -TT_INF, ta_err};
     tt_kd_key texit = tt_kd_box_exit_key(&T->aug[start], r, ord, ties), tup = texit;
+    uint32_t from = start;
     for (;;) {
+        unsigned amb = 0;
         tt_kd_node leaf = TT_VARIANT(tt_kd_descend)(T, r, ord, &node, &tentry, &texit, ties, &last,
-                                                    &tup, stats);
-        if (TT_VARIANT(tt_kd_leaf)(T, leaf, r, any, best, stats)) {
+                                                    &tup, &amb, stats);
+        if (TT_VARIANT(tt_kd_leaf)(T, leaf, r, any, best, stats) ||
+            TT_VARIANT(tt_kd_near_cells)(T, r, any, ord, from, &tentry, amb, best, stats)) {
             *end = last;
             return 1;
         }
         /* The ray ends in this leaf's box (or, past the last leaf, on the
          * scene box right behind it). */
         if (best->prim != TT_INVALID_ID) *end = last;
-        if (best->t <= texit.t) return 0;
-        if (!tt_kd_key_after(&root_exit, &texit, ties)) return 0; /* left the scene */
+        if (tt_kd_done_before(best->t, &texit)) return 0;
+        if (!tt_kd_key_after(&root_exit, &texit, ties)) /* left the scene: search around the exit */
+            return TT_VARIANT(tt_kd_around)(T, r, any, ord, 0, &texit, 0, 0, best, stats);
+        from = 0;
         tentry = texit;
         node = 0;
         last = 0;
@@ -96,11 +143,23 @@ TT_HD int TT_VARIANT(tt_kd_stackless)(const tt_kd_view *T, const tt_wray *r, int
 {
     float ta, tb;
     unsigned tests = 1;
+    tt_kd_band band;
     (void)stats;
-    if (!tt_kd_root_interval(T, r, NULL, &ta, &tb)) {
+    tt_kd_band_init(&band, r);
+    /* The scene box is entered with the band, so a ray grazing its edge is
+     * not lost to rounding; the entry point is then uncertain by the
+     * widest face band. */
+    if (!tt_kd_root_interval(T, r, &band, &ta, &tb)) {
         TT_COUNT(stats, boxes, tests);
         return 0;
     }
+    float ta_err = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        if (r->dir[k] == 0.0f) continue;
+        ta_err = tt_kd_max(ta_err, tt_kd_cross_err(r, k, tt_kd_max(fabsf(T->aug[0].lo[k]),
+                                                                   fabsf(T->aug[0].hi[k]))));
+    }
+    ta_err *= 2.0f;
     const uint32_t start = tt_kd_start_node(T, r, hint, &ta, &tb, &tests);
     TT_COUNT(stats, boxes, tests);
     unsigned ties = 0, pass = 0;
@@ -109,9 +168,10 @@ TT_HD int TT_VARIANT(tt_kd_stackless)(const tt_kd_view *T, const tt_wray *r, int
         tt_kd_order ord;
         tt_kd_order_init(&ord, pass);
         done |= (uint64_t)1 << pass;
-        int hit = seq ? TT_VARIANT(tt_kd_seq_pass)(T, r, any, &ord, start, ta, &ties, best, end, stats)
-                      : TT_VARIANT(tt_kd_sltr_pass)(T, r, any, &ord, start, ta, TT_KD_NO_PARENT,
-                                                    &ties, best, end, stats);
+        int hit = seq ? TT_VARIANT(tt_kd_seq_pass)(T, r, any, &ord, start, ta, ta_err, &ties, best,
+                                                   end, stats)
+                      : TT_VARIANT(tt_kd_sltr_pass)(T, r, any, &ord, start, ta, ta_err,
+                                                    TT_KD_NO_PARENT, &ties, best, end, stats);
         if (hit) return 1;
         /* The next untried pass over the ties seen so far. */
         const unsigned perms = (ties & TT_KD_CORNER_TIE) ? 6u : 1u;
