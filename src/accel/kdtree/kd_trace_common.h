@@ -175,20 +175,56 @@ TT_HD int TT_VARIANT(tt_kd_leaf)(const tt_kd_view *T, tt_kd_node leaf, const tt_
  * (bit k: 0 left, 1 right) and records the axis in *ties.
  *
  * *last and *tup follow the deepest augmented node passed (Algorithm 3's
- * lastAugmentedNode and t_up). *amb counts the nodes whose plane the ray
- * crosses within the rounding band of the entry point (tt_kd_near): there
- * the computed choice of child may differ from where the triangle test
- * sees the ray, and the caller searches the other children too
- * (tt_kd_around). */
+ * lastAugmentedNode and t_up).
+ *
+ * Near-exact ties (see kd_trace_sltr.h): amb->all counts the nodes whose
+ * plane the ray crosses within the rounding band of the entry point
+ * (tt_kd_near), where the computed choice of child may differ from where
+ * the triangle test sees the ray; amb->other those that are not the plane
+ * the ray entered through (crossed at exactly the entry key); amb->edge is
+ * set when a plane on the path other than the exit plane is crossed within
+ * the band of the exit, and amb->box_exit when the exit is the face of the
+ * start box (*texit on input), whose other faces the path did not see. */
+#ifndef TT_KD_AMB_DEFINED
+#define TT_KD_AMB_DEFINED
+typedef struct tt_kd_amb {
+    unsigned all, other;
+    int edge, box_exit;
+} tt_kd_amb;
+
+TT_HD int tt_kd_key_same(const tt_kd_key *a, const tt_kd_key *b)
+{
+    return a->t == b->t && a->rank == b->rank && a->pos == b->pos;
+}
+
+/* Whether a face of box a the ray leaves through, other than the exit
+ * crossing itself, is crossed within the band of that exit. */
+TT_HD int tt_kd_box_exit_near_edge(const tt_kd_aug *a, const tt_wray *r, const tt_kd_key *exit)
+{
+    for (int k = 0; k < 3; k++) {
+        if (r->dir[k] == 0.0f) continue;
+        const int neg = r->dir[k] < 0.0f;
+        const float face = neg ? TT_LDG(&a->lo[k]) : TT_LDG(&a->hi[k]);
+        tt_kd_key c;
+        c.t = (face - r->org[k]) * r->inv[k];
+        c.pos = neg ? -face : face;
+        c.err = tt_kd_cross_err(r, k, face);
+        if (!(c.t == exit->t && c.pos == exit->pos) && tt_kd_near(&c, exit)) return 1;
+    }
+    return 0;
+}
+#endif
+
 TT_HD tt_kd_node TT_VARIANT(tt_kd_descend)(const tt_kd_view *T, const tt_wray *r,
                                            const tt_kd_order *ord, uint32_t *node,
                                            const tt_kd_key *tentry, tt_kd_key *texit,
                                            unsigned *ties, uint32_t *last, tt_kd_key *tup,
-                                           unsigned *amb, tt_ray_stats *stats)
+                                           tt_kd_amb *amb, tt_ray_stats *stats)
 {
     uint32_t i = *node;
     tt_kd_node n = T->nodes[i];
-    tt_kd_key te = *texit;
+    tt_kd_key te = *texit, te2 = {TT_INF, 3, 0.0f, 0.0f};
+    int box_exit = 1;
     (void)stats;
     while (!tt_kd_is_leaf(n.bits)) {
         TT_COUNT(stats, interior, 1);
@@ -209,10 +245,19 @@ TT_HD tt_kd_node TT_VARIANT(tt_kd_descend)(const tt_kd_view *T, const tt_wray *r
             c.rank = ord->rank[k];
             c.pos = d < 0.0f ? -n.u.split : n.u.split;
             c.err = tt_kd_cross_err(r, k, n.u.split);
-            *amb += (unsigned)tt_kd_near(&c, tentry);
+            if (tt_kd_near(&c, tentry)) {
+                amb->all++;
+                amb->other += (unsigned)!tt_kd_key_same(&c, tentry);
+            }
             if (tt_kd_key_after(&c, tentry, ties)) {
                 i = d < 0.0f ? right : left;
-                if (tt_kd_key_after(&te, &c, ties)) te = c;
+                if (tt_kd_key_after(&te, &c, ties)) {
+                    te2 = te;
+                    te = c;
+                    box_exit = 0;
+                } else if (tt_kd_key_after(&te2, &c, ties)) {
+                    te2 = c;
+                }
             } else {
                 i = d < 0.0f ? left : right;
             }
@@ -223,6 +268,8 @@ TT_HD tt_kd_node TT_VARIANT(tt_kd_descend)(const tt_kd_view *T, const tt_wray *r
             *tup = te;
         }
     }
+    amb->edge = tt_kd_near(&te2, &te);
+    amb->box_exit = box_exit;
     *node = i;
     *texit = te;
     return n;

@@ -22,27 +22,44 @@
  * cross) meet planes at distances that differ only by rounding, so the
  * computed path may skip a cell the triangle test sees the ray in. Each
  * point location therefore also counts the planes crossed within the
- * rounding band of its entry point and, if there are any, visits the
- * leaves reached by the other choices there (tt_kd_around: bounded
- * re-descents from the same cached box, no stack); if the entry point lies
- * within the band of a face of that box, from the root. The ray's last
+ * rounding band of its entry point, and notes whether the leaf's exit is
+ * within the band of another of its planes (an edge). Where the entry
+ * point is near a plane other than the one entered through, or the
+ * previous leaf was left near an edge, the pass also visits the leaves
+ * reached by every other choice at the near planes (tt_kd_around: bounded
+ * re-descents from the same cached box, no stack; from the root if the
+ * entry point lies within the band of a face of that box). The ray's last
  * exit point is searched around the same way, the scene box is entered
  * with the band, and a pass stops only at a hit clearly (by more than the
  * band) before the current exit. */
 
 /* The searches around entry point *tentry of a descent from augmented node
- * `from` that met `amb` near-ambiguous nodes (see tt_kd_around). */
+ * `from` (see tt_kd_around): from the root if the entry point lies within
+ * the band of a face of that box; else below `from` if a plane other than
+ * the entry plane is crossed within the band there, or the previous leaf
+ * was left near an edge (prev_edge; the cells around it behind the entry
+ * plane are reached by flipping that plane's choice). */
 TT_HD int TT_VARIANT(tt_kd_near_cells)(const tt_kd_view *T, const tt_wray *r, int any,
                                        const tt_kd_order *ord, uint32_t from,
-                                       const tt_kd_key *tentry, unsigned amb, tt_kd_best *best,
-                                       tt_ray_stats *stats)
+                                       const tt_kd_key *tentry, const tt_kd_amb *amb,
+                                       int prev_edge, tt_kd_best *best, tt_ray_stats *stats)
 {
     if (from != 0 && tt_kd_near_faces(&T->aug[from], r, tentry)) {
         TT_COUNT(stats, boxes, 1);
         return TT_VARIANT(tt_kd_around)(T, r, any, ord, 0, tentry, 0, 0, best, stats);
     }
-    if (amb == 0) return 0;
-    return TT_VARIANT(tt_kd_around)(T, r, any, ord, from, tentry, 1, amb, best, stats);
+    if (amb->other == 0 && !prev_edge) return 0;
+    return TT_VARIANT(tt_kd_around)(T, r, any, ord, from, tentry, 1, amb->all, best, stats);
+}
+
+/* Whether the leaf just left (exit *texit, descent from `from`) was left
+ * near an edge: another plane on its path, or another face of the box
+ * `from` when the exit is that box's, crossed within the band. */
+TT_HD int TT_VARIANT(tt_kd_left_near_edge)(const tt_kd_view *T, const tt_wray *r, uint32_t from,
+                                          const tt_kd_key *texit, const tt_kd_amb *amb)
+{
+    return amb->edge || (amb->box_exit && from != 0 &&
+                         tt_kd_box_exit_near_edge(&T->aug[from], r, texit));
 }
 
 #ifndef TT_KD_DONE_BEFORE_DEFINED
@@ -65,15 +82,16 @@ TT_HD int TT_VARIANT(tt_kd_sltr_pass)(const tt_kd_view *T, const tt_wray *r, int
     uint32_t last = start;
     tt_kd_key tup = tt_kd_box_exit_key(&T->aug[start], r, ord, ties);
     tt_kd_key tentry = {ta, -1, -TT_INF, ta_err};
+    int edge = 0;
     for (;;) {
         const uint32_t from = last;
         uint32_t node = T->aug[last].node;
-        unsigned amb = 0;
+        tt_kd_amb amb = {0u, 0u, 0, 0};
         tt_kd_key texit = tup;
         tt_kd_node leaf = TT_VARIANT(tt_kd_descend)(T, r, ord, &node, &tentry, &texit, ties, &last,
                                                     &tup, &amb, stats);
         if (TT_VARIANT(tt_kd_leaf)(T, leaf, r, any, best, stats) ||
-            TT_VARIANT(tt_kd_near_cells)(T, r, any, ord, from, &tentry, amb, best, stats)) {
+            TT_VARIANT(tt_kd_near_cells)(T, r, any, ord, from, &tentry, &amb, edge, best, stats)) {
             *end = last;
             return 1;
         }
@@ -81,6 +99,7 @@ TT_HD int TT_VARIANT(tt_kd_sltr_pass)(const tt_kd_view *T, const tt_wray *r, int
          * scene box right behind it). */
         if (best->prim != TT_INVALID_ID) *end = last;
         if (tt_kd_done_before(best->t, &texit)) return 0;
+        edge = TT_VARIANT(tt_kd_left_near_edge)(T, r, from, &texit, &amb);
         tentry = texit;
         if (tt_kd_key_after(&tup, &tentry, ties)) continue; /* still inside the last box */
         int found = 0;
@@ -96,7 +115,7 @@ TT_HD int TT_VARIANT(tt_kd_sltr_pass)(const tt_kd_view *T, const tt_wray *r, int
             }
         }
         if (!found) /* left the scene (or the box `stop`): search around the exit */
-            return stop == TT_KD_NO_PARENT &&
+            return stop == TT_KD_NO_PARENT && edge &&
                    TT_VARIANT(tt_kd_around)(T, r, any, ord, 0, &tentry, 0, 0, best, stats);
     }
 }
@@ -113,12 +132,13 @@ TT_HD int TT_VARIANT(tt_kd_seq_pass)(const tt_kd_view *T, const tt_wray *r, int 
     tt_kd_key tentry = {ta, -1, -TT_INF, ta_err};
     tt_kd_key texit = tt_kd_box_exit_key(&T->aug[start], r, ord, ties), tup = texit;
     uint32_t from = start;
+    int edge = 0;
     for (;;) {
-        unsigned amb = 0;
+        tt_kd_amb amb = {0u, 0u, 0, 0};
         tt_kd_node leaf = TT_VARIANT(tt_kd_descend)(T, r, ord, &node, &tentry, &texit, ties, &last,
                                                     &tup, &amb, stats);
         if (TT_VARIANT(tt_kd_leaf)(T, leaf, r, any, best, stats) ||
-            TT_VARIANT(tt_kd_near_cells)(T, r, any, ord, from, &tentry, amb, best, stats)) {
+            TT_VARIANT(tt_kd_near_cells)(T, r, any, ord, from, &tentry, &amb, edge, best, stats)) {
             *end = last;
             return 1;
         }
@@ -126,8 +146,9 @@ TT_HD int TT_VARIANT(tt_kd_seq_pass)(const tt_kd_view *T, const tt_wray *r, int 
          * scene box right behind it). */
         if (best->prim != TT_INVALID_ID) *end = last;
         if (tt_kd_done_before(best->t, &texit)) return 0;
+        edge = TT_VARIANT(tt_kd_left_near_edge)(T, r, from, &texit, &amb);
         if (!tt_kd_key_after(&root_exit, &texit, ties)) /* left the scene: search around the exit */
-            return TT_VARIANT(tt_kd_around)(T, r, any, ord, 0, &texit, 0, 0, best, stats);
+            return edge && TT_VARIANT(tt_kd_around)(T, r, any, ord, 0, &texit, 0, 0, best, stats);
         from = 0;
         tentry = texit;
         node = 0;
@@ -153,15 +174,17 @@ TT_HD int TT_VARIANT(tt_kd_stackless)(const tt_kd_view *T, const tt_wray *r, int
         TT_COUNT(stats, boxes, tests);
         return 0;
     }
+
+    const uint32_t start = tt_kd_start_node(T, r, hint, &ta, &tb, &tests);
+    TT_COUNT(stats, boxes, tests);
+    /* A start in a hinted box is at the origin itself, exact. */
     float ta_err = 0.0f;
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; start == 0 && k < 3; k++) {
         if (r->dir[k] == 0.0f) continue;
         ta_err = tt_kd_max(ta_err, tt_kd_cross_err(r, k, tt_kd_max(fabsf(T->aug[0].lo[k]),
                                                                    fabsf(T->aug[0].hi[k]))));
     }
     ta_err *= 2.0f;
-    const uint32_t start = tt_kd_start_node(T, r, hint, &ta, &tb, &tests);
-    TT_COUNT(stats, boxes, tests);
     unsigned ties = 0, pass = 0;
     uint64_t done = 0;
     for (;;) {
