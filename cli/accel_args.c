@@ -218,10 +218,11 @@ void cli_accel_args_help(FILE *out)
             "  --kd-build nlogn|nlog2n  SAH builder (default nlogn)\n"
             "  --dmin N|none            sparse boxes every N levels, or none (default 4)\n"
             "  --ct F, --ci F           SAH traversal and intersection costs (default 1, 1.5)\n"
-            "  --empty-bonus F          SAH bonus for cutting off empty space, in [0, 1)\n"
-            "                           (default 0.8)\n"
+            "  --empty-bonus F          SAH bonus for cutting off empty space, in [0, 1):\n"
+            "                           such a split costs (1 - F) x (default 0.2)\n"
             "  --max-depth N            maximum depth, 0 = automatic 8 + 1.3 log2 N (default 0)\n"
-            "  --shadow-hint primary|caster  shadow rays start at the primary ray's end node or\n"
-            "                           at the last shadow caster's node (default primary;\n"
-            "                           caster needs --traversal btr, sltr or seq)\n");
+            "  --shadow-hint primary|caster  shadow rays start at the primary ray's end node;\n"
+            "                           caster: each first searches the box of the tile's\n"
+            "                           last shadow caster (default primary; caster needs\n"
+            "                           --traversal btr, sltr or seq)\n");
 }

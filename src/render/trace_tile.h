@@ -39,9 +39,12 @@ static void TT_VARIANT(primary_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *s
 }
 
 /* Shadow rays of one tile's primary hits, each started from the node its
- * primary ray ended in, or (kd-tree option) from the last caster's node. The
- * caster is forgotten at every tile so that the result does not depend on
- * which thread traced which tile before. */
+ * primary ray ended in. With the kd-tree's caster option, the node where
+ * the tile's last occluded shadow ray ended also goes in: the kd-tree takes
+ * it in args.end_hint on input (start_hint stays the ray's own start) and
+ * searches that caster's box first. The caster is forgotten at every tile
+ * so that the result does not depend on which thread traced which tile
+ * before. */
 static void TT_VARIANT(shadow_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *sum)
 {
     const tt_accel *accel = f->accel;
@@ -60,9 +63,8 @@ static void TT_VARIANT(shadow_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *su
                 tt_camera_basis_ray(&f->basis, x, y, &r);
                 if (tt_shadow_ray_eps(f->scene, f->camera, f->eps, &r, &h, &s)) {
                     tt_wray w;
-                    uint32_t start = f->end_hint[i];
-                    if (f->caster_hint && caster != TT_INVALID_ID) start = caster;
-                    tt_trace_args args = {start, TT_INVALID_ID, NULL};
+                    tt_trace_args args = {f->end_hint[i], f->caster_hint ? caster : TT_INVALID_ID,
+                                          NULL};
                     tt_wray_init(&w, s.org, s.dir, s.tmin, s.tmax);
 #if TT_STATS
                     args.stats = sum;
