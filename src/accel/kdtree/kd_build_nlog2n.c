@@ -28,7 +28,7 @@ static kd_split find_split(n2_state *s, const item *items, uint32_t n, const tt_
         size_t m = 0;
         for (uint32_t i = 0; i < n; i++)
             m += kd_events_of(s->ev + m, items[i].box.lo[axis], items[i].box.hi[axis], items[i].tri);
-        kd_sort_events(s->ev, s->tmp, m);
+        kd_radix_sort_events(s->ev, s->tmp, m);
         kd_sweep(s->b, s->ev, m, n, cell, axis, &best);
     }
     return best;

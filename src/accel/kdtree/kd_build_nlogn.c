@@ -192,7 +192,7 @@ tt_status kd_build_nlogn(kd_builder *b, const tt_aabb *root)
         size_t at = 0;
         for (int k = 0; k < 3; k++) {
             memmove(lists.block + at, lists.block + 2 * (size_t)n * k, lists.n[k] * sizeof(uint64_t));
-            kd_sort_events(lists.block + at, tmp, lists.n[k]);
+            kd_radix_sort_events(lists.block + at, tmp, lists.n[k]);
             at += lists.n[k];
         }
         tt_free(b->ctx, tmp);

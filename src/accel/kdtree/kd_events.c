@@ -74,3 +74,44 @@ void kd_merge_in_place(uint64_t *run, size_t n_run, const uint64_t *b, size_t n_
         hi = pos;
     }
 }
+
+/* The sorted bits 30 .. 63 in digits of 11, 11 and 12 bits. */
+#define RADIX_SHORT 256
+
+void kd_radix_sort_events(uint64_t *keys, uint64_t *tmp, size_t n)
+{
+    static const int shift[3] = {30, 41, 52}, bits[3] = {11, 11, 12};
+    if (n < RADIX_SHORT) {
+        kd_sort_events(keys, tmp, n);
+        return;
+    }
+    /* One histogram pass for the three digits. The counts fit 32 bits:
+     * a list holds fewer than 2^32 events (2 per triangle, < 2^29). */
+    uint32_t count0[1 << 11] = {0}, count1[1 << 11] = {0}, count2[1 << 12] = {0};
+    uint32_t *count[3] = {count0, count1, count2};
+    for (size_t i = 0; i < n; i++) {
+        const uint64_t x = keys[i];
+        count0[(x >> 30) & 0x7FFu]++;
+        count1[(x >> 41) & 0x7FFu]++;
+        count2[(x >> 52) & 0xFFFu]++;
+    }
+    uint64_t *src = keys, *dst = tmp;
+    for (int d = 0; d < 3; d++) {
+        uint32_t *c = count[d];
+        const size_t buckets = (size_t)1 << bits[d];
+        const uint64_t mask = buckets - 1;
+        /* A digit all keys share leaves the order as it is. */
+        if (c[(src[0] >> shift[d]) & mask] == n) continue;
+        uint32_t sum = 0;
+        for (size_t j = 0; j < buckets; j++) {
+            const uint32_t t = c[j];
+            c[j] = sum;
+            sum += t;
+        }
+        for (size_t i = 0; i < n; i++) dst[c[(src[i] >> shift[d]) & mask]++] = src[i];
+        uint64_t *t = src;
+        src = dst;
+        dst = t;
+    }
+    if (src != keys) memcpy(keys, src, n * sizeof *keys);
+}

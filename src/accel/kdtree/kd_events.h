@@ -67,6 +67,14 @@ static inline size_t kd_events_of(uint64_t *out, float lo, float hi, uint32_t tr
  * at the root and for the few re-clipped triangles of each split. */
 void kd_sort_events(uint64_t *keys, uint64_t *tmp, size_t n);
 
+/* Stable LSD radix sort on the position and type bits only (3 passes of a
+ * counting sort; tmp holds n keys): events with the same position and type
+ * keep their input order. So on events listed in triangle order (as the
+ * builders generate them) it gives exactly kd_sort_events' order, and on
+ * any input the order kd_sweep depends on. Short inputs go to
+ * kd_sort_events. */
+void kd_radix_sort_events(uint64_t *keys, uint64_t *tmp, size_t n);
+
 /* Merges two sorted runs into out (n_a + n_b keys). */
 void kd_merge_events(const uint64_t *a, size_t n_a, const uint64_t *b, size_t n_b, uint64_t *out);
 
