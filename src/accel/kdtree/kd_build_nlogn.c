@@ -75,7 +75,10 @@ static uint32_t reclip(nl_state *s, uint32_t nb, const tt_aabb *cell, uint64_t *
         for (int k = 0; k < 3; k++)
             len[k] += kd_events_of(out + 2 * (size_t)nb * k + len[k], box.lo[k], box.hi[k], s->ids[i]);
     }
-    for (int k = 0; k < 3; k++) kd_sort_events(out + 2 * (size_t)nb * k, tmp, len[k]);
+    /* Order among events of equal position and type does not matter: the
+     * sweep and classification look only at position and type, and leaves
+     * sort their ids. */
+    for (int k = 0; k < 3; k++) kd_radix_sort_events(out + 2 * (size_t)nb * k, tmp, len[k]);
     return kept;
 }
 

@@ -2,6 +2,7 @@
 #include "accel/kdtree/kd_clip.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 /* A triangle clipped by six planes has at most 3 + 6 vertices. */
@@ -36,16 +37,31 @@ static void clip_plane(const poly *in, poly *out, int axis, double c, double sig
 static double dmin(double a, double b) { return a < b ? a : b; }
 static double dmax(double a, double b) { return a > b ? a : b; }
 
+/* nextafterf(f, +-INFINITY) for a finite f, by stepping the bit pattern:
+ * nextafterf is an out-of-line libm call (with scalbn inside) and was a
+ * visible part of the build. */
+static float step_float(float f, int up)
+{
+    if (f == 0.0f) return up ? 1.40129846e-45f : -1.40129846e-45f;
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    /* Away from zero: magnitude + 1 ulp; towards zero: - 1 ulp. */
+    if ((f > 0.0f) == (up != 0)) u++;
+    else u--;
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+
 static float round_down(double d)
 {
     float f = (float)d;
-    return ((double)f > d) ? nextafterf(f, -INFINITY) : f;
+    return ((double)f > d) ? step_float(f, 0) : f;
 }
 
 static float round_up(double d)
 {
     float f = (float)d;
-    return ((double)f < d) ? nextafterf(f, INFINITY) : f;
+    return ((double)f < d) ? step_float(f, 1) : f;
 }
 
 int kd_clip_polygon(const float *tri, const double lo[3], const double hi[3],
