@@ -18,12 +18,13 @@ if(NOT TT_WITH_CUDA)
   return()
 endif()
 
-# check_language looks on PATH (and at CUDACXX); the toolkit's usual place
-# is tried too, since nvcc is often installed without being on PATH.
-if(NOT CMAKE_CUDA_COMPILER AND NOT DEFINED ENV{CUDACXX})
-  find_program(TT_NVCC_ON_PATH nvcc)
-  if(NOT TT_NVCC_ON_PATH AND EXISTS /usr/local/cuda/bin/nvcc)
-    set(CMAKE_CUDA_COMPILER /usr/local/cuda/bin/nvcc CACHE FILEPATH "The CUDA compiler")
+# nvcc on PATH, else at the toolkit's usual place (often not on PATH);
+# CUDACXX or -DCMAKE_CUDA_COMPILER=... choose another. check_language then
+# verifies that it compiles, so a broken toolkit only disables the backend.
+if(NOT DEFINED CMAKE_CUDA_COMPILER AND NOT DEFINED ENV{CUDACXX})
+  find_program(TT_NVCC nvcc PATHS /usr/local/cuda/bin)
+  if(TT_NVCC)
+    set(ENV{CUDACXX} "${TT_NVCC}")
   endif()
 endif()
 include(CheckLanguage)
