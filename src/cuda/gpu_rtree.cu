@@ -16,9 +16,9 @@
 #undef TT_STATS
 
 /* The tree with device pointers, and the frame. */
-__constant__ tt_rtree_packed c_tree;
-__constant__ tt_gpu_frame_const c_frame;
-__constant__ float c_root_box[6];
+static __constant__ tt_rtree_packed c_tree;
+static __constant__ tt_gpu_frame_const c_frame;
+static __constant__ float c_root_box[6];
 
 /* Primary rays with traversal WHICH (stackless or ordered). */
 template <int WHICH, bool STATS>
