@@ -52,6 +52,7 @@ typedef struct tt_gpu_frame {
     float *t;
     uint8_t *shadow;
     uint32_t *pixel_stats[5]; /* tt_heat_metric order                        */
+    uint8_t *image;           /* NULL, or 3 w h bytes: shaded on the GPU      */
     /* out */
     double *primary_s, *shadow_s; /* `repeat` entries each, caller's arrays */
     double upload_s, download_s;

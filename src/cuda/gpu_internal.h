@@ -53,6 +53,7 @@ struct tt_gpu_io {
     tt_gpu_pixel_stats pixel; /* all NULL unless asked for               */
     unsigned long long *sum;  /* 6 counters in tt_ray_stats order (counting passes) */
     const float *tri;         /* the scene's triangles, load order        */
+    uint8_t *image;           /* 3 w h bytes of RGB, when asked for       */
 };
 
 /* The frame's constants the kernels of every structure read. */

@@ -4,13 +4,27 @@
 #include <string.h>
 
 #include "cuda/gpu_internal.h"
+#include "render/shade_hd.h"
 
 namespace {
+
+/* The image from the final results, shaded as on the CPU (shade_hd.h). */
+__global__ void __launch_bounds__(TT_GPU_THREADS)
+    shade_kernel(tt_gpu_frame_const fc, int has_light, int shadows, const float *tri,
+                 const uint32_t *prim, const float *t, const uint8_t *shadow, uint8_t *rgb)
+{
+    const uint32_t x = blockIdx.x * blockDim.x + threadIdx.x;
+    const uint32_t y = blockIdx.y * blockDim.y + threadIdx.y;
+    if (x >= fc.basis.width || y >= fc.basis.height) return;
+    const size_t i = (size_t)y * fc.basis.width + x;
+    tt_shade_pixel(&fc.basis, tri, fc.light, has_light, shadows, x, y, prim[i], t[i], shadow[i],
+                   rgb + 3 * i);
+}
 
 /* Everything the frame allocates on the device, freed by the destructor. */
 struct frame_resources {
     tt_gpu_arrays arrays = {};  /* the structure's and the scene's arrays */
-    void *buffers[10] = {};     /* the per-pixel buffers and the counters */
+    void *buffers[12] = {};     /* the per-pixel buffers and the counters */
     int buffer_count = 0;
     cudaEvent_t events[4] = {};
     int event_count = 0;
@@ -64,6 +78,12 @@ tt_status allocate_io(frame_resources *r, const tt_gpu_frame *f, tt_gpu_io *io, 
     io->end = (uint32_t *)p;
     if ((st = alloc_buffer(r, n, &p, e, "shadow flags")) != TT_OK) return st;
     io->shadow = (uint8_t *)p;
+    /* all lit until a shadow pass says otherwise (none without a light) */
+    TT_GPU_TRY(e, cudaMemset(io->shadow, 0, n), "shadow flags");
+    if (f->image) {
+        if ((st = alloc_buffer(r, 3 * n, &p, e, "image")) != TT_OK) return st;
+        io->image = (uint8_t *)p;
+    }
     if ((st = alloc_buffer(r, 6 * sizeof(unsigned long long), &p, e, "statistics")) != TT_OK)
         return st;
     io->sum = (unsigned long long *)p;
@@ -140,6 +160,8 @@ tt_status download(const tt_gpu_io *io, int shadows, tt_gpu_frame *f, tt_gpu_err
     if (shadows)
         TT_GPU_TRY(e, cudaMemcpy(f->shadow, io->shadow, n, cudaMemcpyDeviceToHost),
                    "shadow flags");
+    if (f->image)
+        TT_GPU_TRY(e, cudaMemcpy(f->image, io->image, 3 * n, cudaMemcpyDeviceToHost), "image");
     if (f->pixel_stats[0])
         for (int m = 0; m < 5; m++)
             TT_GPU_TRY(e, cudaMemcpy(f->pixel_stats[m], io->pixel.m[m], n * sizeof(uint32_t),
@@ -183,6 +205,11 @@ tt_status run(const tt_gpu_module *mod, const tt_gpu_structure *s, tt_gpu_frame 
      * results, as on the CPU */
     if (f->stats && (st = counting_pass(mod, s, &fc, &io, shadows, f, e)) != TT_OK) return st;
     if ((st = timed_passes(mod, s, &fc, &io, shadows, ev, f, e)) != TT_OK) return st;
+    if (f->image) {
+        shade_kernel<<<tt_gpu_grid(io.width, io.height), tt_gpu_block()>>>(
+            fc, f->has_light, f->shadows, io.tri, io.prim, io.t, io.shadow, io.image);
+        TT_GPU_TRY(e, cudaGetLastError(), "shading");
+    }
 
     TT_GPU_TRY(e, cudaEventRecord(ev[3]), "timing");
     if ((st = download(&io, shadows, f, e)) != TT_OK) return st;

@@ -284,7 +284,7 @@ tt_status tt_render(tt_context *ctx, const tt_scene *scene, const tt_accel *acce
         goto fail;
     }
     if (o.device == TT_DEVICE_GPU) {
-        st = tt_render_gpu_passes(ctx, &f, &o, times, times + o.repeat, s);
+        st = tt_render_gpu_passes(ctx, &f, &o, times, times + o.repeat, r->image, s);
     } else {
         s->threads = f.threads;
         cpu_passes(&f, &o, times, times + o.repeat, s);
@@ -294,7 +294,7 @@ tt_status tt_render(tt_context *ctx, const tt_scene *scene, const tt_accel *acce
     if (st != TT_OK) goto fail;
     count_results(&f, o.shadows, s);
     if (r->hits) encode_hits(&f, o.shadows, r->hits);
-    if (r->image) tt_frame_shade(&f, o.shadows, r->image);
+    if (r->image && o.device == TT_DEVICE_CPU) tt_frame_shade(&f, o.shadows, r->image);
     free_frame(ctx, &f);
     *out = r;
     return TT_OK;

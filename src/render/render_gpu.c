@@ -44,12 +44,14 @@ tt_status tt_device_check(tt_context *ctx, tt_device device)
 }
 
 tt_status tt_render_gpu_passes(tt_context *ctx, tt_frame *f, const tt_render_options *o,
-                               double *primary_s, double *shadow_s, tt_render_summary *s)
+                               double *primary_s, double *shadow_s, uint8_t *image,
+                               tt_render_summary *s)
 {
     (void)f;
     (void)o;
     (void)primary_s;
     (void)shadow_s;
+    (void)image;
     (void)s;
     return tt_device_check(ctx, TT_DEVICE_GPU);
 }
@@ -95,7 +97,8 @@ static tt_status describe(tt_context *ctx, const tt_accel *accel, tt_gpu_structu
 }
 
 tt_status tt_render_gpu_passes(tt_context *ctx, tt_frame *f, const tt_render_options *o,
-                               double *primary_s, double *shadow_s, tt_render_summary *s)
+                               double *primary_s, double *shadow_s, uint8_t *image,
+                               tt_render_summary *s)
 {
     tt_gpu_structure g;
     tt_status st = describe(ctx, f->accel, &g);
@@ -114,6 +117,7 @@ tt_status tt_render_gpu_passes(tt_context *ctx, tt_frame *f, const tt_render_opt
     gf.t = f->t;
     gf.shadow = f->shadow;
     for (int m = 0; m < TT_HEAT_METRIC_COUNT; m++) gf.pixel_stats[m] = f->pixel_stats[m];
+    gf.image = image;
     gf.primary_s = primary_s;
     gf.shadow_s = shadow_s;
     char msg[TT_GPU_MESSAGE];

@@ -13,8 +13,10 @@ tt_status tt_render_gpu_validate(tt_context *ctx, const tt_accel *accel);
 
 /* The frame's passes on the GPU: fills f->prim, f->t, f->shadow (and
  * f->pixel_stats), primary_s[k] and shadow_s[k] for each of the o->repeat
- * timed passes, and in *s the statistics, the copy times and the device. */
+ * timed passes, in *s the statistics, the copy times and the device, and
+ * when image is not NULL the image shaded on the GPU (w h RGB bytes). */
 tt_status tt_render_gpu_passes(tt_context *ctx, tt_frame *f, const tt_render_options *o,
-                               double *primary_s, double *shadow_s, tt_render_summary *s);
+                               double *primary_s, double *shadow_s, uint8_t *image,
+                               tt_render_summary *s);
 
 #endif

@@ -3,8 +3,9 @@
  * buffers agree pixel by pixel (the conventions' rule: both miss, the same
  * triangle or t within 1e-4 relative, and the same shadow flag), the
  * counting passes give the same totals and the same per-pixel counts (the
- * GPU runs the CPU's traversal code on bit-identical rays), and the
- * summary carries the GPU's timings. Needs a build with CUDA and a usable
+ * GPU runs the CPU's traversal code on bit-identical rays), the image
+ * shaded on the GPU equals the CPU's wherever the hit buffers are
+ * byte-identical, and the summary carries the GPU's timings. Needs a build with CUDA and a usable
  * GPU; otherwise it says why and exits 77 (skipped). */
 #include <math.h>
 #include <stdlib.h>
@@ -60,6 +61,7 @@ static tt_render_result *render(tt_context *ctx, const tt_scene *scene, const tt
     o.keep_hits = 1;
     o.stats = 1;
     o.keep_pixel_stats = 1;
+    o.keep_image = 1;
     o.repeat = 2;
     o.device = device;
     tt_render_result *r = NULL;
@@ -92,6 +94,12 @@ static void compare(tt_context *ctx, const tt_scene *scene, const tt_camera *cam
               what, (unsigned long long)g->primary_stats.boxes,
               (unsigned long long)c->primary_stats.boxes,
               (unsigned long long)g->shadow_stats.boxes, (unsigned long long)c->shadow_stats.boxes);
+    const uint8_t *gi = tt_render_image(gpu), *ci = tt_render_image(cpu);
+    size_t image_bad = 0;
+    for (size_t i = 0; i < (size_t)SIZE * SIZE; i++)
+        image_bad += memcmp(gh + 12 * i, ch + 12 * i, 12) == 0 && memcmp(gi + 3 * i, ci + 3 * i, 3) != 0;
+    CHECK_MSG(image_bad == 0, "%s: %zu pixels with identical hits are shaded differently", what,
+              image_bad);
     for (int m = TT_HEAT_NODES; m <= TT_HEAT_BOXES; m++) {
         const uint32_t *gp = tt_render_pixel_stats(gpu, (tt_heat_metric)m);
         const uint32_t *cp = tt_render_pixel_stats(cpu, (tt_heat_metric)m);
