@@ -9,6 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "accel/kdtree/kd_layout.h"
 #include "accel/rtree/rtree_packed.h"
 #include "render/camera_hd.h"
 #include "treetrace/treetrace.h"
@@ -32,6 +33,10 @@ typedef struct tt_gpu_structure {
     tt_rtree_packed rtree;
     size_t rtree_box_floats;
     float rtree_root_box[6]; /* the auto traversal's inside test (rt_locate) */
+    /* kdtree: the view (host pointers; its tri is the scene's), nodes[]
+     * entries (extension slots included) and refs[] entries */
+    tt_kd_view kd;
+    size_t kd_node_slots, kd_refs;
     /* the scene's triangles in load order (shadow-ray normals) */
     const float *tri;
     uint32_t triangles;

@@ -117,13 +117,15 @@ tt_status tt_gpu_upload_array(tt_gpu_arrays *a, const void *src, size_t bytes, v
  * (counting variant when stats). Launch errors are collected by the caller
  * with cudaGetLastError. */
 struct tt_gpu_module {
+    /* tri: the scene's triangles already on the device (load order) */
     tt_status (*upload)(const tt_gpu_structure *s, const tt_gpu_frame_const *fc,
-                        tt_gpu_arrays *arrays, tt_gpu_err *e);
+                        const float *tri, tt_gpu_arrays *arrays, tt_gpu_err *e);
     void (*primary)(const tt_gpu_structure *s, const tt_gpu_frame_const *fc, const tt_gpu_io *io,
                     int stats);
     void (*shadow)(const tt_gpu_structure *s, const tt_gpu_io *io, int stats);
 };
 
 extern const tt_gpu_module tt_gpu_rtree_module;
+extern const tt_gpu_module tt_gpu_kdtree_module;
 
 #endif

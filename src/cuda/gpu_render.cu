@@ -50,6 +50,8 @@ const tt_gpu_module *module_of(tt_gpu_kind kind)
     switch (kind) {
     case TT_GPU_RTREE:
         return &tt_gpu_rtree_module;
+    case TT_GPU_KDTREE:
+        return &tt_gpu_kdtree_module;
     default:
         return NULL;
     }
@@ -196,7 +198,7 @@ tt_status run(const tt_gpu_module *mod, const tt_gpu_structure *s, tt_gpu_frame 
                                   &tri, e, "scene triangles")) != TT_OK)
         return st;
     io.tri = (const float *)tri;
-    if ((st = mod->upload(s, &fc, &r->arrays, e)) != TT_OK) return st;
+    if ((st = mod->upload(s, &fc, io.tri, &r->arrays, e)) != TT_OK) return st;
     TT_GPU_TRY(e, cudaEventRecord(ev[1]), "timing");
     if ((st = seconds(ev[0], ev[1], &f->upload_s, e)) != TT_OK) return st;
 

@@ -75,7 +75,7 @@ __global__ void __launch_bounds__(TT_GPU_THREADS)
 }
 
 static tt_status rt_upload(const tt_gpu_structure *s, const tt_gpu_frame_const *fc,
-                           tt_gpu_arrays *arrays, tt_gpu_err *e)
+                           const float *, tt_gpu_arrays *arrays, tt_gpu_err *e)
 {
     const tt_rtree_packed *h = &s->rtree;
     tt_rtree_packed d = *h;

@@ -9,6 +9,7 @@
 #ifdef TT_HAVE_CUDA
 #include <pthread.h>
 
+#include "accel/kdtree/kdtree.h"
 #include "accel/rtree/rtree.h"
 #include "cuda/gpu.h"
 #endif
@@ -28,6 +29,19 @@ tt_status tt_render_gpu_validate(tt_context *ctx, const tt_accel *accel)
         if (accel->options.rtree.traversal == TT_RTREE_STACK)
             return tt_error(ctx, TT_ERR_UNSUPPORTED,
                             "tt_render: " SUPPORTED ", not rtree with the stack traversal");
+        return TT_OK;
+    }
+    if (strcmp(name, "kdtree") == 0) {
+        static const char *const names[] = {"htr", "btr", "sltr", "seq"};
+        const tt_kdtree_options *k = &accel->options.kdtree;
+        if (k->traversal != TT_KD_SLTR && k->traversal != TT_KD_HTR)
+            return tt_error(ctx, TT_ERR_UNSUPPORTED,
+                            "tt_render: " SUPPORTED ", not kdtree with the %s traversal",
+                            (unsigned)k->traversal < 4 ? names[k->traversal] : "unknown");
+        /* one thread per ray has no "previous shadow ray" to take it from */
+        if (k->shadow_caster_hint)
+            return tt_error(ctx, TT_ERR_UNSUPPORTED,
+                            "tt_render: " SUPPORTED ", not the kd-tree's shadow-caster hint");
         return TT_OK;
     }
     return tt_error(ctx, TT_ERR_UNSUPPORTED, "tt_render: " SUPPORTED ", not %s", name);
@@ -91,6 +105,15 @@ static tt_status describe(tt_context *ctx, const tt_accel *accel, tt_gpu_structu
         g->rtree = t->p;
         g->rtree_box_floats = t->box_floats;
         memcpy(g->rtree_root_box, t->root_box, sizeof g->rtree_root_box);
+        return TT_OK;
+    }
+    const tt_kdtree *kd = tt_kdtree_of(accel);
+    if (kd) {
+        g->kind = TT_GPU_KDTREE;
+        g->traversal = (int)accel->options.kdtree.traversal;
+        g->kd = kd->view;
+        g->kd_node_slots = kd->node_slots;
+        g->kd_refs = kd->ref_count;
         return TT_OK;
     }
     return tt_render_gpu_validate(ctx, accel);

@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "accel/accel.h"
+#include "accel/kdtree/kdtree.h"
 #include "accel/rtree/rtree.h"
 #include "check.h"
 #include "compare.h"
@@ -27,10 +28,12 @@
 
 #define TT_STATS 0
 #include "accel/stats_variant.h"
+#include "cuda/gpu_pixel_kdtree.h"
 #include "cuda/gpu_pixel_rtree.h"
 #undef TT_STATS
 #define TT_STATS 1
 #include "accel/stats_variant.h"
+#include "cuda/gpu_pixel_kdtree.h"
 #include "cuda/gpu_pixel_rtree.h"
 #undef TT_STATS
 
@@ -213,6 +216,89 @@ static void rtree_view(const view_frame *v, tt_rtree_traversal traversal,
     tt_accel_destroy(accel);
 }
 
+/* --------------------------------------------------------------- kd-tree */
+
+static void kd_pixel(const view_frame *v, const tt_accel *accel, uint32_t x, uint32_t y,
+                     counts *c)
+{
+    const tt_kdtree *kd = tt_kdtree_of(accel);
+    const int trav = (int)accel->options.kdtree.traversal;
+    const uint32_t eye_hint = tt_accel_locate(accel, v->cam.eye);
+    uint32_t prim, prim_s, end, end_s;
+    float dist, dist_s;
+    tt_ray_stats st_gpu;
+    memset(&st_gpu, 0, sizeof st_gpu);
+    tt_gpu_kd_primary(&kd->view, trav, eye_hint, &v->basis, x, y, &prim, &dist, &end, NULL);
+    tt_gpu_kd_primary_stats(&kd->view, trav, eye_hint, &v->basis, x, y, &prim_s, &dist_s, &end_s,
+                            &st_gpu);
+    c->rays++;
+    tt_ray r;
+    tt_camera_ray(&v->cam, v->w, v->h, x, y, &r);
+    tt_hit h_cpu;
+    tt_ray_stats st_cpu;
+    memset(&st_cpu, 0, sizeof st_cpu);
+    tt_trace_args args = {eye_hint, TT_INVALID_ID, &st_cpu};
+    REQUIRE_OK(v->ctx, tt_intersect1_ex(accel, &r, &h_cpu, &args));
+    tt_hit h_bf = bf_primary(v, x, y, &r);
+    tt_hit h_gpu = {dist, 0.0f, 0.0f, prim};
+    if (prim != prim_s || !same_bits(dist, dist_s) || end != end_s)
+        report(c, &c->bad_cpu, x, y, "fast prim %u t %.9g end %u, counting prim %u t %.9g end %u",
+               prim, dist, end, prim_s, dist_s, end_s);
+    if (prim != h_cpu.prim || (prim != TT_INVALID_ID && !same_bits(dist, h_cpu.t)) ||
+        end != args.end_hint || !stats_equal(&st_gpu, &st_cpu))
+        report(c, &c->bad_cpu, x, y,
+               "GPU code prim %u t %.9g end %u (%llu nodes), CPU path prim %u t %.9g end %u "
+               "(%llu nodes)",
+               prim, dist, end, (unsigned long long)st_gpu.nodes, h_cpu.prim, h_cpu.t,
+               args.end_hint, (unsigned long long)st_cpu.nodes);
+    if (!tt_test_hits_agree(&h_gpu, &h_bf))
+        report(c, &c->bad_ref, x, y, "GPU code prim %u t %.9g, bruteforce prim %u t %.9g", prim,
+               dist, h_bf.prim, h_bf.t);
+    if (prim == TT_INVALID_ID || !v->cam.has_light) return;
+
+    /* the shadow ray, started where the primary ray ended */
+    tt_ray_stats sh_gpu, sh_cpu;
+    memset(&sh_gpu, 0, sizeof sh_gpu);
+    memset(&sh_cpu, 0, sizeof sh_cpu);
+    int occ = tt_gpu_kd_shadow(&kd->view, trav, end, &v->basis, v->cam.light, v->eps, x, y, prim,
+                               dist, NULL);
+    int occ_s = tt_gpu_kd_shadow_stats(&kd->view, trav, end, &v->basis, v->cam.light, v->eps, x,
+                                       y, prim, dist, &sh_gpu);
+    c->rays++;
+    tt_ray s;
+    CHECK(tt_shadow_ray(v->scene, &v->cam, &r, &h_gpu, &s) == 1);
+    int occ_cpu = -1;
+    tt_trace_args sargs = {end, TT_INVALID_ID, &sh_cpu};
+    REQUIRE_OK(v->ctx, tt_occluded1_ex(accel, &s, &occ_cpu, &sargs));
+    int occ_bf = bf_shadow(v, x, y, &h_gpu, &s);
+    if (occ != occ_s || occ != occ_cpu || !stats_equal(&sh_gpu, &sh_cpu))
+        report(c, &c->bad_cpu, x, y,
+               "shadow: GPU code %d / counting %d (%llu nodes), CPU path %d (%llu nodes)", occ,
+               occ_s, (unsigned long long)sh_gpu.nodes, occ_cpu, (unsigned long long)sh_cpu.nodes);
+    if (occ != occ_bf)
+        report(c, &c->bad_ref, x, y, "shadow: GPU code %d, bruteforce %d", occ, occ_bf);
+}
+
+static void kd_view(const view_frame *v, tt_kd_traversal traversal, const char *view)
+{
+    tt_build_options o;
+    tt_build_options_default(&o);
+    o.accel = "kdtree";
+    o.kdtree.traversal = traversal;
+    tt_accel *accel = NULL;
+    REQUIRE_OK(v->ctx, tt_accel_build(v->ctx, v->scene, &o, &accel));
+    char what[128];
+    snprintf(what, sizeof what, "%s, kdtree %s", view, traversal == TT_KD_HTR ? "htr" : "sltr");
+    counts c = {0, 0, 0, what};
+    for (uint32_t y = 0; y < v->h; y++)
+        for (uint32_t x = 0; x < v->w; x++) kd_pixel(v, accel, x, y, &c);
+    CHECK_MSG(c.bad_ref == 0, "%s: %zu of %zu rays disagree with bruteforce", what, c.bad_ref,
+              c.rays);
+    CHECK_MSG(c.bad_cpu == 0, "%s: %zu of %zu rays differ from the CPU path", what, c.bad_cpu,
+              c.rays);
+    tt_accel_destroy(accel);
+}
+
 /* ------------------------------------------------------------------ views */
 
 static void check_view(tt_context *ctx, const char *file, const char *view, uint32_t size)
@@ -245,6 +331,8 @@ static void check_view(tt_context *ctx, const char *file, const char *view, uint
     rtree_view(&v, TT_RTREE_AUTO, view);
     rtree_view(&v, TT_RTREE_STACKLESS, view);
     rtree_view(&v, TT_RTREE_ORDERED, view);
+    kd_view(&v, TT_KD_SLTR, view);
+    kd_view(&v, TT_KD_HTR, view);
     free(v.bf_hit);
     free(v.shadow_from);
     free(v.bf_occluded);
