@@ -3,10 +3,12 @@
  * comma-separated triples; light may be empty or absent (no light). The
  * whole file is validated, not just the line asked for, so a broken file is
  * reported whichever view is wanted. */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "geometry/vec3.h"
 #include "io/file.h"
 #include "io/number.h"
 #include "io/parsers.h"
@@ -79,6 +81,36 @@ static float dist2(const float a[3], const float b[3])
     return d;
 }
 
+/* Whether a squared length can be normalised in float: finite, and normal
+ * so that 1 / sqrtf(len2) is finite too. */
+static int normalisable(float len2) { return isfinite(len2) && len2 >= FLT_MIN; }
+
+/* The camera builds its basis in float (render/camera.c, per the
+ * conventions): forward = normalize(look - eye), right = normalize(cross(
+ * forward, up)). Both must be normalisable there, or every primary ray comes
+ * out zero or NaN; finite inputs are not enough (a difference of 1e38 and
+ * -1e38 overflows, a squared length of 1e-30 underflows). So the same float
+ * steps are replayed here and a view that fails them is refused. */
+static tt_status check_basis(tt_context *ctx, const char *file, size_t line, const tt_camera *cam)
+{
+    tt_vec3 d = tt_v3_sub(tt_v3_load(cam->look), tt_v3_load(cam->eye));
+    float d2 = tt_v3_dot(d, d);
+    if (!normalisable(d2))
+        return tt_error(ctx, TT_ERR_PARSE,
+                        "%s:%zu: look - eye (%g, %g, %g) is too %s for a float view direction", file,
+                        line, d.x, d.y, d.z, d2 > 1.0f ? "long" : "short");
+    tt_vec3 r = tt_v3_cross(tt_v3_normalize(d), tt_v3_load(cam->up));
+    float r2 = tt_v3_dot(r, r);
+    if (!isfinite(r2))
+        return tt_error(ctx, TT_ERR_PARSE, "%s:%zu: the up vector is too long for float arithmetic",
+                        file, line);
+    if (!normalisable(r2)) /* up parallel to the view leaves no image plane */
+        return tt_error(ctx, TT_ERR_PARSE,
+                        "%s:%zu: the up vector is parallel to the view direction (or too short)",
+                        file, line);
+    return TT_OK;
+}
+
 /* One view line into *cam, checking that it describes a usable camera. */
 static tt_status parse_view(tt_context *ctx, const char *file, size_t line, const field *f,
                             size_t n, tt_camera *cam)
@@ -110,14 +142,7 @@ static tt_status parse_view(tt_context *ctx, const char *file, size_t line, cons
         return tt_error(ctx, TT_ERR_PARSE, "%s:%zu: the up vector is zero", file, line);
     if (dist2(cam->eye, cam->look) == 0.0f)
         return tt_error(ctx, TT_ERR_PARSE, "%s:%zu: eye and look are the same point", file, line);
-    /* up parallel to the view direction leaves no image plane */
-    float d[3] = {cam->look[0] - cam->eye[0], cam->look[1] - cam->eye[1], cam->look[2] - cam->eye[2]};
-    float c[3] = {d[1] * cam->up[2] - d[2] * cam->up[1], d[2] * cam->up[0] - d[0] * cam->up[2],
-                  d[0] * cam->up[1] - d[1] * cam->up[0]};
-    if (dist2(c, zero) == 0.0f || !isfinite(dist2(c, zero)))
-        return tt_error(ctx, TT_ERR_PARSE, "%s:%zu: the up vector is parallel to the view direction",
-                        file, line);
-    return TT_OK;
+    return check_basis(ctx, file, line, cam);
 }
 
 /* Appends "scene:view" to the list of available names (for the error when
