@@ -146,19 +146,23 @@ static tt_status parse_view(tt_context *ctx, const char *file, size_t line, cons
 }
 
 /* Appends "scene:view" to the list of available names (for the error when
- * the wanted one is missing), truncating with "..." when it gets long. */
-static void append_name(char *list, size_t cap, const field *f)
+ * the wanted one is missing), ending it with ", ..." instead once the next
+ * name would not fit. A name is only added while room for that ellipsis
+ * stays behind it, so the ellipsis always fits too. */
+#define ELLIPSIS ", ..."
+static void append_name(char *list, size_t cap, int *truncated, const field *f)
 {
+    if (*truncated) return;
     size_t n = strlen(list);
-    if (n + 4 >= cap) return;
     char item[160];
     snprintf(item, sizeof item, "%s%.*s:%.*s", n ? ", " : "", (int)(f[0].len > 64 ? 64 : f[0].len),
              f[0].s, (int)(f[1].len > 64 ? 64 : f[1].len), f[1].s);
-    if (n + strlen(item) + 4 >= cap) {
-        if (strcmp(list + n - (n >= 3 ? 3 : n), "...") != 0) strcpy(list + n, ", ...");
+    if (n + strlen(item) + sizeof ELLIPSIS > cap) {
+        memcpy(list + n, ELLIPSIS, sizeof ELLIPSIS);
+        *truncated = 1;
         return;
     }
-    strcpy(list + n, item);
+    memcpy(list + n, item, strlen(item) + 1);
 }
 
 tt_status tt_view_find_memory(tt_context *ctx, const char *views_name, const char *data,
@@ -179,6 +183,7 @@ tt_status tt_view_find_memory(tt_context *ctx, const char *views_name, const cha
     size_t line = 0, found_line = 0;
     tt_camera found;
     char names[600] = "";
+    int names_truncated = 0;
     memset(&found, 0, sizeof found);
     int header_seen = 0;
     while (p < end) {
@@ -216,7 +221,7 @@ tt_status tt_view_find_memory(tt_context *ctx, const char *views_name, const cha
         tt_camera cam;
         tt_status st = parse_view(ctx, views_name, line, f, n, &cam);
         if (st) return st;
-        append_name(names, sizeof names, f);
+        append_name(names, sizeof names, &names_truncated, f);
         /* "scene:view" compared whole, so a ':' inside either part is harmless */
         if (f[0].len + 1 + f[1].len == name_len && !memcmp(f[0].s, name, f[0].len) &&
             name[f[0].len] == ':' && !memcmp(f[1].s, name + f[0].len + 1, f[1].len)) {
