@@ -9,6 +9,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "check.h"
@@ -168,6 +169,35 @@ static inline void hard_rays_free(hard_rays *s)
     memset(s, 0, sizeof *s);
 }
 
+static inline int hard_ray_agrees(const tt_accel *test, const hard_rays *s, size_t i)
+{
+    tt_hit h;
+    int o = -1;
+    return tt_intersect1(test, &s->ray[i], &h) == TT_OK && tt_test_hits_agree(&s->hit[i], &h) &&
+           tt_occluded1(test, &s->ray[i], &o) == TT_OK && o == s->occluded[i];
+}
+
+/* Prints how many rays of each family disagree (fast variant), so that a
+ * report says at a glance which kind of ray a structure gets wrong. */
+static inline void hard_tally_families(const tt_accel *test, const hard_rays *s)
+{
+    const char *seen[64];
+    size_t count[64], nseen = 0;
+    for (size_t i = 0; i < s->n; i++) {
+        if (hard_ray_agrees(test, s, i)) continue;
+        size_t k = 0;
+        while (k < nseen && strcmp(seen[k], s->kind[i]) != 0) k++;
+        if (k == nseen) {
+            if (nseen == 64) continue;
+            seen[nseen] = s->kind[i];
+            count[nseen++] = 0;
+        }
+        count[k]++;
+    }
+    for (size_t k = 0; k < nseen; k++) fprintf(stderr, "%s %zu \"%s\"", k ? "," : "", count[k], seen[k]);
+    fprintf(stderr, "\n");
+}
+
 /* Number of rays on which `test` disagrees with the stored reference, in the
  * fast or the counting variant, for the closest hit or occlusion; prints the
  * first few with the scene and variant. */
@@ -199,7 +229,10 @@ static inline size_t hard_compare(const char *scene, const char *label, const tt
                     s->occluded[i], fast.prim, fast.t, o_fast, counted.prim, counted.t, o_counted,
                     (unsigned long long)st.rays, e1 || e2 || e3 || e4 ? " (a call failed)" : "");
     }
-    if (bad) fprintf(stderr, "%s / %s: %zu of %zu rays disagree\n", scene, label, bad, s->n);
+    if (bad) {
+        fprintf(stderr, "%s / %s: %zu of %zu rays disagree; by family:", scene, label, bad, s->n);
+        hard_tally_families(test, s);
+    }
     return bad;
 }
 
@@ -225,7 +258,11 @@ static inline size_t hard_each_structure(tt_context *ctx, const char *scene_name
     tt_camera_frame_scene(scene, &cam);
     size_t built = 0;
     static hard_variant v[HARD_MAX_VARIANTS];
+    /* HARD_ONLY=name restricts the run to one structure (a debugging aid,
+     * e.g. to look past a structure that crashes). */
+    const char *only = getenv("HARD_ONLY");
     for (const char *const *name = tt_accel_names(); *name; name++) {
+        if (only && *only && strcmp(only, *name) != 0) continue;
         size_t nv = hard_variants(*name, v);
         for (size_t i = 0; i < nv; i++) {
             tt_accel *acc = NULL;

@@ -180,14 +180,22 @@ static inline void hard_rays_targeted(hard_rays *s, const tt_scene *scene, size_
 /* Rays whose interval starts or ends exactly where bruteforce hits: the
  * half-open [tmin, tmax) must be honoured at both ends by every structure,
  * also when tmin == tmax or tmin > tmax, or tmin is negative (hits behind
- * the origin count). Built from the hits of `base` (already traced). */
-static inline void hard_rays_intervals(hard_rays *s, const hard_rays *base, size_t max)
+ * the origin count). Built from the hits of `base` (already traced); diag
+ * is the scene's size (hard_geom.diag). */
+static inline void hard_rays_intervals(hard_rays *s, const hard_rays *base, float diag, size_t max)
 {
     size_t added = 0;
     for (size_t i = 0; i < base->n && added < max; i++) {
         const tt_hit *h = &base->hit[i];
-        if (h->prim == TT_INVALID_ID || !(h->t > 0.0f)) continue;
         const tt_ray *r = &base->ray[i];
+        if (h->prim == TT_INVALID_ID || !(h->t > 0.0f)) continue;
+        /* Only hits at a real distance: a ray starting on a surface "hits"
+         * it at a t that is rounding noise (1e-8 for a unit scene, exactly 0
+         * in real arithmetic), and no box test can bound that noise without
+         * knowing the triangle test's error; such rays are in the targeted
+         * families with tmin = 0, where every answer must agree. */
+        float len = sqrtf(r->dir[0] * r->dir[0] + r->dir[1] * r->dir[1] + r->dir[2] * r->dir[2]);
+        if (!(h->t * len > 1e-3f * diag)) continue;
         hard_rays_add(s, "tmax exactly at the hit", r->org, r->dir, 0.0f, h->t);
         hard_rays_add(s, "tmin exactly at the hit", r->org, r->dir, h->t, INFINITY);
         hard_rays_add(s, "tmin == tmax == the hit", r->org, r->dir, h->t, h->t);

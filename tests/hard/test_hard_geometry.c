@@ -29,7 +29,9 @@ static void run_scene(tt_context *ctx, hard_mesh *m)
     hard_rays_targeted(&rays, scene, PER_FAMILY, 777u);
     hard_rays_reference(&rays, ref);
     hard_rays intervals = {0};
-    hard_rays_intervals(&intervals, &rays, PER_FAMILY);
+    hard_geom g;
+    hard_geom_init(&g, scene);
+    hard_rays_intervals(&intervals, &rays, g.diag, PER_FAMILY);
     hard_rays_reference(&intervals, ref);
     /* one set: the targeted rays, then their interval variants */
     for (size_t i = 0; i < intervals.n; i++)
