@@ -276,6 +276,7 @@ typedef struct tt_render_summary {
     double mrays_per_s, primary_mrays_per_s, shadow_mrays_per_s;
     int has_stats;
     tt_ray_stats primary_stats, shadow_stats; /* from one (counting) pass      */
+    int threads;                /* OpenMP threads the passes ran on            */
 } tt_render_summary;
 
 tt_status tt_render(tt_context *ctx, const tt_scene *scene, const tt_accel *accel,

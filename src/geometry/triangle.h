@@ -39,6 +39,17 @@ TT_HD int tt_intersect_triangle(const tt_wray *r, const float *a, const float *b
     const float inv_det = 1.0f / det;
     const float t = T * inv_det;
     if (!(t >= r->tmin && t < tmax)) return 0;
+    /* A zero-area triangle (coincident or collinear vertices) is no longer
+     * exactly degenerate once translated and sheared in float: a ray through
+     * one of its vertices gets two zero edge functions and a tiny nonzero
+     * third one, and would count as a hit. Its unsheared normal is exactly
+     * zero, so it is refused here, only for the few candidates that got this
+     * far. Neighbouring triangles cover the segment it lies on. */
+    const float e1x = b[0] - a[0], e1y = b[1] - a[1], e1z = b[2] - a[2];
+    const float e2x = c[0] - a[0], e2y = c[1] - a[1], e2z = c[2] - a[2];
+    if (e1y * e2z - e1z * e2y == 0.0f && e1z * e2x - e1x * e2z == 0.0f &&
+        e1x * e2y - e1y * e2x == 0.0f)
+        return 0;
     *t_out = t;
     *u_out = V * inv_det;
     *v_out = W * inv_det;

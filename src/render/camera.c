@@ -1,26 +1,37 @@
 /* Primary and shadow rays exactly per ../shared/scenes/README.md, so that hit
  * buffers can be compared ray by ray with other ray tracers. */
+#include "render/camera.h"
+
 #include <math.h>
 #include <string.h>
 
-#include "geometry/vec3.h"
-#include "io/scene.h"
-
-typedef struct camera_basis {
-    tt_vec3 forward, right, up;
-    float h, aspect;
-} camera_basis;
-
-static camera_basis basis(const tt_camera *c, uint32_t width, uint32_t height)
+void tt_camera_basis_init(tt_camera_basis *b, const tt_camera *c, uint32_t width,
+                          uint32_t height)
 {
-    camera_basis b;
-    tt_vec3 eye = tt_v3_load(c->eye);
-    b.forward = tt_v3_normalize(tt_v3_sub(tt_v3_load(c->look), eye));
-    b.right = tt_v3_normalize(tt_v3_cross(b.forward, tt_v3_load(c->up)));
-    b.up = tt_v3_cross(b.right, b.forward);
-    b.aspect = (float)width / (float)height;
-    b.h = tanf(c->fov_deg * 3.14159265358979323846f / 360.0f);
-    return b;
+    b->eye = tt_v3_load(c->eye);
+    b->forward = tt_v3_normalize(tt_v3_sub(tt_v3_load(c->look), b->eye));
+    b->right = tt_v3_normalize(tt_v3_cross(b->forward, tt_v3_load(c->up)));
+    b->up = tt_v3_cross(b->right, b->forward);
+    b->aspect = (float)width / (float)height;
+    b->h = tanf(c->fov_deg * 3.14159265358979323846f / 360.0f);
+    b->width = width;
+    b->height = height;
+}
+
+void tt_camera_basis_ray(const tt_camera_basis *b, uint32_t x, uint32_t y, tt_ray *out)
+{
+    float u = (2.0f * ((float)x + 0.5f) / (float)b->width - 1.0f) * b->h * b->aspect;
+    float v = (1.0f - 2.0f * ((float)y + 0.5f) / (float)b->height) * b->h;
+    tt_vec3 d = tt_v3_add(b->forward, tt_v3_add(tt_v3_scale(b->right, u), tt_v3_scale(b->up, v)));
+    d = tt_v3_normalize(d);
+    out->org[0] = b->eye.x;
+    out->org[1] = b->eye.y;
+    out->org[2] = b->eye.z;
+    out->dir[0] = d.x;
+    out->dir[1] = d.y;
+    out->dir[2] = d.z;
+    out->tmin = 0.0f;
+    out->tmax = INFINITY;
 }
 
 tt_status tt_camera_ray(const tt_camera *c, uint32_t width, uint32_t height, uint32_t x,
@@ -28,22 +39,14 @@ tt_status tt_camera_ray(const tt_camera *c, uint32_t width, uint32_t height, uin
 {
     if (!c || !out || width == 0 || height == 0 || x >= width || y >= height)
         return TT_ERR_INVALID_ARGUMENT;
-    camera_basis b = basis(c, width, height);
-    float u = (2.0f * ((float)x + 0.5f) / (float)width - 1.0f) * b.h * b.aspect;
-    float v = (1.0f - 2.0f * ((float)y + 0.5f) / (float)height) * b.h;
-    tt_vec3 d = tt_v3_add(b.forward, tt_v3_add(tt_v3_scale(b.right, u), tt_v3_scale(b.up, v)));
-    d = tt_v3_normalize(d);
-    memcpy(out->org, c->eye, sizeof out->org);
-    out->dir[0] = d.x;
-    out->dir[1] = d.y;
-    out->dir[2] = d.z;
-    out->tmin = 0.0f;
-    out->tmax = INFINITY;
+    tt_camera_basis b;
+    tt_camera_basis_init(&b, c, width, height);
+    tt_camera_basis_ray(&b, x, y, out);
     return TT_OK;
 }
 
-int tt_shadow_ray(const tt_scene *scene, const tt_camera *c, const tt_ray *primary,
-                  const tt_hit *hit, tt_ray *out)
+int tt_shadow_ray_eps(const tt_scene *scene, const tt_camera *c, float eps,
+                      const tt_ray *primary, const tt_hit *hit, tt_ray *out)
 {
     if (!c->has_light || hit->prim == TT_INVALID_ID) return 0;
     const float *tri = scene->tri + 9 * (size_t)hit->prim;
@@ -52,7 +55,6 @@ int tt_shadow_ray(const tt_scene *scene, const tt_camera *c, const tt_ray *prima
     tt_vec3 n = tt_v3_normalize(tt_v3_cross(tt_v3_sub(v1, v0), tt_v3_sub(v2, v0)));
     if (tt_v3_dot(n, dir) > 0.0f) n = tt_v3_scale(n, -1.0f);
     tt_vec3 p = tt_v3_add(tt_v3_load(primary->org), tt_v3_scale(dir, hit->t));
-    float eps = 1e-4f * tt_scene_diagonal(scene);
     tt_vec3 o = tt_v3_add(p, tt_v3_scale(n, eps));
     tt_vec3 to_light = tt_v3_sub(tt_v3_load(c->light), o);
     float dist = tt_v3_length(to_light);
@@ -66,6 +68,29 @@ int tt_shadow_ray(const tt_scene *scene, const tt_camera *c, const tt_ray *prima
     out->tmin = 0.0f;
     out->tmax = dist * (1.0f - 1e-4f);
     return 1;
+}
+
+int tt_shadow_ray(const tt_scene *scene, const tt_camera *c, const tt_ray *primary,
+                  const tt_hit *hit, tt_ray *out)
+{
+    return tt_shadow_ray_eps(scene, c, 1e-4f * tt_scene_diagonal(scene), primary, hit, out);
+}
+
+static int finite3(const float *v) { return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]); }
+
+const char *tt_camera_problem(const tt_camera *c)
+{
+    if (!finite3(c->eye)) return "the eye is not finite";
+    if (!finite3(c->look)) return "the look point is not finite";
+    if (!finite3(c->up)) return "the up vector is not finite";
+    if (c->has_light && !finite3(c->light)) return "the light is not finite";
+    if (!(c->fov_deg > 0.0f && c->fov_deg < 180.0f)) return "the field of view is not in (0, 180)";
+    tt_vec3 f = tt_v3_sub(tt_v3_load(c->look), tt_v3_load(c->eye));
+    if (!(tt_v3_length(f) > 0.0f)) return "the eye and the look point coincide";
+    tt_vec3 r = tt_v3_cross(tt_v3_normalize(f), tt_v3_load(c->up));
+    if (!(tt_v3_length(r) > 0.0f) || !isfinite(tt_v3_length(r)))
+        return "the up vector is zero or parallel to the view direction";
+    return NULL;
 }
 
 void tt_camera_frame_scene(const tt_scene *scene, tt_camera *out)

@@ -1,0 +1,265 @@
+/* tt_render: traces a frame K times (primary pass, then shadow pass, each
+ * timed), optionally once more with the counting traversal variants, and
+ * keeps what the caller asked for (hit buffer, image, per-pixel counts). */
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/frame.h"
+
+struct tt_render_result {
+    tt_context *ctx;
+    tt_render_summary summary;
+    uint8_t *hits;
+    size_t hits_size;
+    uint8_t *image;
+    uint32_t *pixel_stats[TT_HEAT_METRIC_COUNT];
+};
+
+void tt_render_options_default(tt_render_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->width = 1024;
+    o->height = 1024;
+    o->shadows = 1;
+    o->repeat = 1;
+}
+
+void tt_render_result_destroy(tt_render_result *r)
+{
+    if (!r) return;
+    tt_context *ctx = r->ctx;
+    tt_free(ctx, r->hits);
+    tt_free(ctx, r->image);
+    for (int m = 0; m < TT_HEAT_METRIC_COUNT; m++) tt_free(ctx, r->pixel_stats[m]);
+    tt_free(ctx, r);
+}
+
+const tt_render_summary *tt_render_get_summary(const tt_render_result *r)
+{
+    return r ? &r->summary : NULL;
+}
+
+const uint8_t *tt_render_image(const tt_render_result *r) { return r ? r->image : NULL; }
+
+const uint8_t *tt_render_hits(const tt_render_result *r, size_t *size)
+{
+    if (size) *size = r && r->hits ? r->hits_size : 0;
+    return r ? r->hits : NULL;
+}
+
+const uint32_t *tt_render_pixel_stats(const tt_render_result *r, tt_heat_metric metric)
+{
+    if (!r || (int)metric < 0 || (int)metric >= TT_HEAT_METRIC_COUNT) return NULL;
+    return r->pixel_stats[metric];
+}
+
+static void put_u32_le(uint8_t *p, uint32_t v)
+{
+    p[0] = (uint8_t)v;
+    p[1] = (uint8_t)(v >> 8);
+    p[2] = (uint8_t)(v >> 16);
+    p[3] = (uint8_t)(v >> 24);
+}
+
+/* The hit buffer of the conventions: 12 bytes a pixel, little-endian
+ * whatever the host's byte order. */
+static void encode_hits(const tt_frame *f, int shadows, uint8_t *out)
+{
+    size_t n = (size_t)f->width * f->height;
+    for (size_t i = 0; i < n; i++) {
+        uint32_t tbits;
+        float t = f->prim[i] == TT_INVALID_ID ? TT_INF : f->t[i];
+        memcpy(&tbits, &t, sizeof tbits);
+        put_u32_le(out + 12 * i, f->prim[i]);
+        put_u32_le(out + 12 * i + 4, tbits);
+        put_u32_le(out + 12 * i + 8, shadows ? f->shadow[i] : 0u);
+    }
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double mrays(uint64_t rays, double seconds)
+{
+    return seconds > 0.0 ? (double)rays / seconds * 1e-6 : 0.0;
+}
+
+static tt_status validate(tt_context *ctx, const tt_scene *scene, const tt_accel *accel,
+                          const tt_camera *camera, const tt_render_options *o)
+{
+    if (!scene || !accel || !camera)
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "tt_render: NULL scene, accel or camera");
+    if (accel->scene != scene)
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT,
+                        "tt_render: the structure was built for another scene");
+    if (o->width == 0 || o->height == 0)
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "tt_render: image size %ux%u is empty",
+                        o->width, o->height);
+    if (o->repeat < 1)
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "tt_render: repeat %d is less than 1",
+                        o->repeat);
+    if ((o->stats || o->keep_pixel_stats) &&
+        (!accel->vt->intersect_stats || !accel->vt->occluded_stats))
+        return tt_error(ctx, TT_ERR_UNSUPPORTED,
+                        "tt_render: structure '%s' has no counting traversal for statistics",
+                        accel->vt->name);
+    const char *problem = tt_camera_problem(camera);
+    if (problem) return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "tt_render: bad camera: %s", problem);
+    return TT_OK;
+}
+
+/* Allocates the frame's per-pixel arrays and the result's kept buffers. */
+static tt_status allocate(tt_context *ctx, const tt_render_options *o, tt_frame *f,
+                          tt_render_result *r)
+{
+    size_t n = (size_t)o->width * o->height;
+    f->prim = tt_alloc_array(ctx, n, sizeof *f->prim);
+    f->t = tt_alloc_array(ctx, n, sizeof *f->t);
+    f->end_hint = tt_alloc_array(ctx, n, sizeof *f->end_hint);
+    f->shadow = tt_calloc(ctx, n, sizeof *f->shadow);
+    int ok = f->prim && f->t && f->end_hint && f->shadow;
+    if (o->keep_hits) {
+        r->hits = tt_alloc_array(ctx, n, 12);
+        r->hits_size = n * 12;
+        ok = ok && r->hits;
+    }
+    if (o->keep_image) {
+        r->image = tt_alloc_array(ctx, n, 3);
+        ok = ok && r->image;
+    }
+    if (o->keep_pixel_stats) {
+        for (int m = 0; m < TT_HEAT_METRIC_COUNT; m++) {
+            r->pixel_stats[m] = tt_calloc(ctx, n, sizeof(uint32_t));
+            f->pixel_stats[m] = r->pixel_stats[m];
+            ok = ok && r->pixel_stats[m];
+        }
+    }
+    if (!ok)
+        return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "tt_render: out of memory for a %ux%u image",
+                        o->width, o->height);
+    return TT_OK;
+}
+
+static void free_frame(tt_context *ctx, tt_frame *f)
+{
+    tt_free(ctx, f->prim);
+    tt_free(ctx, f->t);
+    tt_free(ctx, f->end_hint);
+    tt_free(ctx, f->shadow);
+}
+
+static void init_frame(tt_context *ctx, const tt_scene *scene, const tt_accel *accel,
+                       const tt_camera *camera, const tt_render_options *o, tt_frame *f)
+{
+    memset(f, 0, sizeof *f);
+    f->scene = scene;
+    f->accel = accel;
+    f->camera = camera;
+    f->width = o->width;
+    f->height = o->height;
+    f->tiles_x = (o->width + TT_TILE - 1) / TT_TILE;
+    f->tiles_y = (o->height + TT_TILE - 1) / TT_TILE;
+    f->threads = tt_context_threads(ctx) > 0 ? tt_context_threads(ctx) : omp_get_max_threads();
+    f->eps = 1e-4f * tt_scene_diagonal(scene);
+    tt_camera_basis_init(&f->basis, camera, o->width, o->height);
+    /* Only the kd-tree knows the option; other structures ignore hints. */
+    f->caster_hint = strcmp(accel->vt->name, "kdtree") == 0 &&
+                     accel->options.kdtree.shadow_caster_hint;
+    /* one point location for all primary rays (they share the eye) */
+    f->eye_hint = accel->vt->locate ? accel->vt->locate(accel, camera->eye) : TT_INVALID_ID;
+}
+
+/* The timed passes, K times; min and median of the totals. */
+static tt_status timed_passes(tt_context *ctx, tt_frame *f, const tt_render_options *o,
+                              tt_render_summary *s)
+{
+    double *totals = tt_alloc_array(ctx, (size_t)o->repeat, sizeof *totals);
+    if (!totals) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "tt_render: out of memory");
+    s->primary_s = s->shadow_s = s->trace_s = INFINITY;
+    for (int k = 0; k < o->repeat; k++) {
+        double t0 = tt_now();
+        tt_frame_trace_primary(f);
+        double t1 = tt_now();
+        if (o->shadows) tt_frame_trace_shadow(f);
+        double t2 = tt_now();
+        s->primary_s = fmin(s->primary_s, t1 - t0);
+        s->shadow_s = fmin(s->shadow_s, t2 - t1);
+        s->trace_s = fmin(s->trace_s, t2 - t0);
+        totals[k] = t2 - t0;
+    }
+    qsort(totals, (size_t)o->repeat, sizeof *totals, cmp_double);
+    int mid = o->repeat / 2;
+    s->trace_median_s = o->repeat % 2 ? totals[mid] : 0.5 * (totals[mid - 1] + totals[mid]);
+    tt_free(ctx, totals);
+    return TT_OK;
+}
+
+static void count_results(const tt_frame *f, int shadows, tt_render_summary *s)
+{
+    size_t n = (size_t)f->width * f->height;
+    int traced_shadows = shadows && f->camera->has_light;
+    s->primary_rays = n;
+    s->primary_hits = s->shadow_rays = s->shadow_occluded = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (f->prim[i] == TT_INVALID_ID) continue;
+        s->primary_hits++;
+        if (traced_shadows) {
+            s->shadow_rays++;
+            s->shadow_occluded += f->shadow[i];
+        }
+    }
+    s->primary_mrays_per_s = mrays(s->primary_rays, s->primary_s);
+    s->shadow_mrays_per_s = mrays(s->shadow_rays, s->shadow_s);
+    s->mrays_per_s = mrays(s->primary_rays + s->shadow_rays, s->trace_s);
+}
+
+tt_status tt_render(tt_context *ctx, const tt_scene *scene, const tt_accel *accel,
+                    const tt_camera *camera, const tt_render_options *options,
+                    tt_render_result **out)
+{
+    if (!out) return TT_ERR_INVALID_ARGUMENT;
+    *out = NULL;
+    if (!ctx) return TT_ERR_INVALID_ARGUMENT;
+    tt_render_options o;
+    if (options) o = *options;
+    else tt_render_options_default(&o);
+    tt_status st = validate(ctx, scene, accel, camera, &o);
+    if (st != TT_OK) return st;
+
+    tt_render_result *r = tt_calloc(ctx, 1, sizeof *r);
+    if (!r) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "tt_render: out of memory");
+    r->ctx = ctx;
+    tt_frame f;
+    init_frame(ctx, scene, accel, camera, &o, &f);
+    st = allocate(ctx, &o, &f, r);
+    if (st != TT_OK) goto fail;
+
+    tt_render_summary *s = &r->summary;
+    s->width = o.width;
+    s->height = o.height;
+    s->threads = f.threads;
+    /* The counting pass runs first, so that the buffers finally hold the
+     * fast variant's results (the ones the timings are about). */
+    if (o.stats || o.keep_pixel_stats) {
+        tt_frame_trace_primary_stats(&f, &s->primary_stats);
+        if (o.shadows) tt_frame_trace_shadow_stats(&f, &s->shadow_stats);
+        s->has_stats = 1;
+    }
+    st = timed_passes(ctx, &f, &o, s);
+    if (st != TT_OK) goto fail;
+    count_results(&f, o.shadows, s);
+    if (r->hits) encode_hits(&f, o.shadows, r->hits);
+    if (r->image) tt_frame_shade(&f, o.shadows, r->image);
+    free_frame(ctx, &f);
+    *out = r;
+    return TT_OK;
+fail:
+    free_frame(ctx, &f);
+    tt_render_result_destroy(r);
+    return st;
+}

@@ -1,0 +1,94 @@
+/* The parallel trace passes of a frame: OpenMP over image tiles with dynamic
+ * scheduling, calling the structure's dispatch table directly (no argument
+ * checks per ray, unlike the public tt_intersect1). */
+#include <string.h>
+
+#include "render/frame.h"
+
+static void tile_bounds(const tt_frame *f, uint32_t tile, uint32_t *x0, uint32_t *y0,
+                        uint32_t *x1, uint32_t *y1)
+{
+    uint32_t tx = tile % f->tiles_x, ty = tile / f->tiles_x;
+    *x0 = tx * TT_TILE;
+    *y0 = ty * TT_TILE;
+    *x1 = *x0 + TT_TILE < f->width ? *x0 + TT_TILE : f->width;
+    *y1 = *y0 + TT_TILE < f->height ? *y0 + TT_TILE : f->height;
+}
+
+static void add_stats(tt_ray_stats *sum, const tt_ray_stats *s)
+{
+    sum->rays += s->rays;
+    sum->nodes += s->nodes;
+    sum->interior += s->interior;
+    sum->leaves += s->leaves;
+    sum->boxes += s->boxes;
+    sum->triangles += s->triangles;
+}
+
+static uint32_t saturate(uint64_t v) { return v > UINT32_MAX ? UINT32_MAX : (uint32_t)v; }
+
+static void store_pixel_stats(tt_frame *f, size_t i, const tt_ray_stats *s)
+{
+    f->pixel_stats[TT_HEAT_NODES][i] = saturate(s->nodes);
+    f->pixel_stats[TT_HEAT_INTERIOR][i] = saturate(s->interior);
+    f->pixel_stats[TT_HEAT_LEAVES][i] = saturate(s->leaves);
+    f->pixel_stats[TT_HEAT_TRIANGLES][i] = saturate(s->triangles);
+    f->pixel_stats[TT_HEAT_BOXES][i] = saturate(s->boxes);
+}
+
+#define TT_STATS 0
+#include "accel/stats_variant.h"
+#include "render/trace_tile.h"
+#undef TT_STATS
+#define TT_STATS 1
+#include "accel/stats_variant.h"
+#include "render/trace_tile.h"
+#undef TT_STATS
+
+static long tile_count(const tt_frame *f) { return (long)f->tiles_x * (long)f->tiles_y; }
+
+void tt_frame_trace_primary(tt_frame *f)
+{
+    const long n = tile_count(f);
+#pragma omp parallel for schedule(dynamic) num_threads(f->threads)
+    for (long tile = 0; tile < n; tile++) primary_tile(f, (uint32_t)tile, NULL);
+}
+
+void tt_frame_trace_shadow(tt_frame *f)
+{
+    const long n = tile_count(f);
+#pragma omp parallel for schedule(dynamic) num_threads(f->threads)
+    for (long tile = 0; tile < n; tile++) shadow_tile(f, (uint32_t)tile, NULL);
+}
+
+/* Each thread sums into its own tt_ray_stats (no sharing of counters in the
+ * hot loop) and adds it to *sum once at the end. */
+void tt_frame_trace_primary_stats(tt_frame *f, tt_ray_stats *sum)
+{
+    const long n = tile_count(f);
+    memset(sum, 0, sizeof *sum);
+#pragma omp parallel num_threads(f->threads)
+    {
+        tt_ray_stats local;
+        memset(&local, 0, sizeof local);
+#pragma omp for schedule(dynamic)
+        for (long tile = 0; tile < n; tile++) primary_tile_stats(f, (uint32_t)tile, &local);
+#pragma omp critical(tt_render_stats_reduce)
+        add_stats(sum, &local);
+    }
+}
+
+void tt_frame_trace_shadow_stats(tt_frame *f, tt_ray_stats *sum)
+{
+    const long n = tile_count(f);
+    memset(sum, 0, sizeof *sum);
+#pragma omp parallel num_threads(f->threads)
+    {
+        tt_ray_stats local;
+        memset(&local, 0, sizeof local);
+#pragma omp for schedule(dynamic)
+        for (long tile = 0; tile < n; tile++) shadow_tile_stats(f, (uint32_t)tile, &local);
+#pragma omp critical(tt_render_stats_reduce)
+        add_stats(sum, &local);
+    }
+}

@@ -1,0 +1,79 @@
+/* Per-tile trace loops, a template compiled twice like the traversals (see
+ * accel/stats_variant.h): with TT_STATS 0 the fast variant, calling the
+ * structure's fast entry points; with TT_STATS 1 the counting variant. The
+ * two must trace exactly the same rays, so they share this one text.
+ * Included only by trace_pass.c, which defines tile_bounds and add_stats. */
+
+/* Primary rays of one tile, all started from the eye's hint. */
+static void TT_VARIANT(primary_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *sum)
+{
+    const tt_accel *accel = f->accel;
+    const tt_accel_vtable *vt = accel->vt;
+    uint32_t x0, y0, x1, y1;
+    tile_bounds(f, tile, &x0, &y0, &x1, &y1);
+    (void)sum;
+    for (uint32_t y = y0; y < y1; y++) {
+        for (uint32_t x = x0; x < x1; x++) {
+            size_t i = (size_t)y * f->width + x;
+            tt_ray r;
+            tt_wray w;
+            tt_hit h;
+            tt_trace_args args = {f->eye_hint, TT_INVALID_ID, NULL};
+            tt_camera_basis_ray(&f->basis, x, y, &r);
+            tt_wray_init(&w, r.org, r.dir, r.tmin, r.tmax);
+#if TT_STATS
+            tt_ray_stats one;
+            memset(&one, 0, sizeof one);
+            args.stats = &one;
+            vt->intersect_stats(accel, &w, &h, &args, &one);
+            add_stats(sum, &one);
+            if (f->pixel_stats[TT_HEAT_NODES]) store_pixel_stats(f, i, &one);
+#else
+            vt->intersect(accel, &w, &h, &args);
+#endif
+            f->prim[i] = h.prim;
+            f->t[i] = h.prim == TT_INVALID_ID ? TT_INF : h.t;
+            f->end_hint[i] = args.end_hint;
+        }
+    }
+}
+
+/* Shadow rays of one tile's primary hits, each started from the node its
+ * primary ray ended in, or (kd-tree option) from the last caster's node. The
+ * caster is forgotten at every tile so that the result does not depend on
+ * which thread traced which tile before. */
+static void TT_VARIANT(shadow_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *sum)
+{
+    const tt_accel *accel = f->accel;
+    const tt_accel_vtable *vt = accel->vt;
+    uint32_t x0, y0, x1, y1;
+    uint32_t caster = TT_INVALID_ID;
+    tile_bounds(f, tile, &x0, &y0, &x1, &y1);
+    (void)sum;
+    for (uint32_t y = y0; y < y1; y++) {
+        for (uint32_t x = x0; x < x1; x++) {
+            size_t i = (size_t)y * f->width + x;
+            int occluded = 0;
+            if (f->prim[i] != TT_INVALID_ID) {
+                tt_ray r, s;
+                tt_hit h = {f->t[i], 0.0f, 0.0f, f->prim[i]};
+                tt_camera_basis_ray(&f->basis, x, y, &r);
+                if (tt_shadow_ray_eps(f->scene, f->camera, f->eps, &r, &h, &s)) {
+                    tt_wray w;
+                    uint32_t start = f->end_hint[i];
+                    if (f->caster_hint && caster != TT_INVALID_ID) start = caster;
+                    tt_trace_args args = {start, TT_INVALID_ID, NULL};
+                    tt_wray_init(&w, s.org, s.dir, s.tmin, s.tmax);
+#if TT_STATS
+                    args.stats = sum;
+                    occluded = vt->occluded_stats(accel, &w, &args, sum);
+#else
+                    occluded = vt->occluded(accel, &w, &args);
+#endif
+                    if (occluded && f->caster_hint) caster = args.end_hint;
+                }
+            }
+            f->shadow[i] = (uint8_t)(occluded != 0);
+        }
+    }
+}
