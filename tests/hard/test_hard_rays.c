@@ -10,7 +10,8 @@
  *   and on a flat scene;
  * - NaN/Inf in the ray and a zero direction: TT_ERR_INVALID_ARGUMENT with a
  *   message, from every structure;
- * - cameras with NaN/Inf or degenerate values: tt_camera_ray refuses them. */
+ * - cameras with NaN/Inf or degenerate values: tt_camera_ray and tt_render
+ *   refuse them. */
 #include "core/context.h" /* tt_now */
 #include "geometry/aabb.h"
 #include "hard_rays.h"
@@ -148,17 +149,47 @@ static void visit_invalid(void *user, const char *label, const tt_accel *acc)
 
 /* ---------------------------------------------------------------- camera */
 
-static void expect_camera_refused(const tt_camera *c, const char *what)
+/* The scene and structure tt_render is tried with. */
+static tt_context *cam_ctx;
+static const tt_scene *cam_scene;
+static const tt_accel *cam_accel;
+
+/* ray_too: tt_camera_ray must refuse it as well (it does not use the
+ * light, so a bad light is only tt_render's business). */
+static void expect_refused(const tt_camera *c, const char *what, int ray_too)
 {
     tt_ray r;
     memset(&r, 0, sizeof r);
-    tt_status st = tt_camera_ray(c, 4, 3, 1, 1, &r);
+    tt_status st = ray_too ? tt_camera_ray(c, 4, 3, 1, 1, &r) : TT_ERR_INVALID_ARGUMENT;
     CHECK_MSG(st == TT_ERR_INVALID_ARGUMENT, "tt_camera_ray with %s: %s (dir %g %g %g)", what,
               tt_strerror(st), r.dir[0], r.dir[1], r.dir[2]);
+    tt_render_options o;
+    tt_render_options_default(&o);
+    o.width = 4, o.height = 3;
+    tt_render_result *res = (tt_render_result *)&o;
+    st = tt_render(cam_ctx, cam_scene, cam_accel, c, &o, &res);
+    CHECK_MSG(st == TT_ERR_INVALID_ARGUMENT && res == NULL, "tt_render with %s: %s", what,
+              tt_strerror(st));
+    if (st == TT_OK) tt_render_result_destroy(res);
+    else CHECK_MSG(strstr(tt_context_last_error(cam_ctx), "camera") != NULL,
+                   "tt_render with %s: the message \"%s\" does not say it is the camera", what,
+                   tt_context_last_error(cam_ctx));
 }
 
-static void test_camera(void)
+static void expect_camera_refused(const tt_camera *c, const char *what) { expect_refused(c, what, 1); }
+
+static void test_camera(tt_context *ctx)
 {
+    hard_mesh m = {0};
+    hard_gen_cubes(&m, 2);
+    tt_scene *scene = hard_scene(ctx, &m);
+    tt_build_options bo;
+    tt_build_options_default(&bo);
+    bo.accel = "bruteforce";
+    tt_accel *acc = NULL;
+    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &acc));
+    cam_ctx = ctx, cam_scene = scene, cam_accel = acc;
+
     const tt_camera good = {{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 45.0f, {1, 2, 3}, 1};
     tt_ray r;
     CHECK(tt_camera_ray(&good, 4, 3, 1, 1, &r) == TT_OK);
@@ -201,6 +232,12 @@ static void test_camera(void)
     c = good;
     c.eye[0] = 3e38f, c.look[0] = -3e38f; /* look - eye overflows */
     expect_camera_refused(&c, "look - eye overflowing float");
+    c = good;
+    c.light[1] = NAN;
+    expect_refused(&c, "a NaN light", 0);
+    tt_accel_destroy(acc);
+    tt_scene_destroy(scene);
+    hard_mesh_free(&m);
 }
 
 /* --------------------------------------------------------------- driver */
@@ -260,7 +297,7 @@ int main(void)
 {
     tt_context *ctx = tt_test_context();
     test_slab();
-    test_camera();
+    test_camera(ctx);
     run_invalid(ctx);
 
     hard_mesh m = {0};
