@@ -103,7 +103,7 @@ static inline size_t hard_variants(const char *name, hard_variant *v)
                              dmins[d]);
                     hard_push(v, &n, &k, label);
                 }
-        for (int t = TT_KD_HTR; t <= TT_KD_SEQ; t++) {
+        for (int t = TT_KD_BTR; t <= TT_KD_SEQ; t++) { /* htr has no boxes to start from */
             tt_build_options k = o;
             k.kdtree.traversal = (tt_kd_traversal)t;
             k.kdtree.shadow_caster_hint = 1;
