@@ -147,9 +147,13 @@ static long exercise(const step *s)
 
 /* The scene: a grid of cubes (quads, so the fan triangulation runs) as one
  * OBJ text and the same as ascii and binary PLY; 2592 triangles and 1728
- * vertices, past the loaders' first reserve so that their arrays grow. */
+ * vertices, past the loaders' first reserve so that their arrays grow. The
+ * structures are built on a smaller grid (324 triangles, still many nodes):
+ * a build is repeated once for each of its allocations, and the kd-tree's
+ * builders allocate per node. */
 #define CUBES 6
 #define TRIANGLES (CUBES * CUBES * CUBES * 12)
+#define BUILD_CUBES 3
 
 typedef struct text {
     char *data;
@@ -177,10 +181,18 @@ static void putf(text *t, const char *fmt, ...)
     put(t, line, (size_t)n);
 }
 
-static text obj_text, ply_ascii, ply_binary;
+static text obj_text, ply_ascii, ply_binary, small_obj;
 
 static void make_files(void)
 {
+    for (int c = 0; c < BUILD_CUBES * BUILD_CUBES * BUILD_CUBES; c++) {
+        for (int q = 0; q < 8; q++)
+            putf(&small_obj, "v %d %d %d\n", 2 * (c % BUILD_CUBES) + (q & 1),
+                 2 * (c / BUILD_CUBES % BUILD_CUBES) + ((q >> 1) & 1),
+                 2 * (c / (BUILD_CUBES * BUILD_CUBES)) + ((q >> 2) & 1));
+        putf(&small_obj, "f -8 -7 -5 -6\nf -4 -2 -1 -3\nf -8 -4 -3 -7\n"
+                         "f -6 -5 -1 -2\nf -8 -6 -2 -4\nf -7 -3 -1 -5\n");
+    }
     static const int face[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
                                    {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
     const size_t nv = CUBES * CUBES * CUBES * 8, nf = CUBES * CUBES * CUBES * 6;
@@ -380,7 +392,8 @@ int main(void)
 
     /* the scene every structure is built on and rendered with */
     tt_scene *scene = NULL;
-    REQUIRE_OK(ctx, tt_scene_load_memory(ctx, "cubes.obj", "obj", obj_text.data, obj_text.size, &scene));
+    REQUIRE_OK(ctx, tt_scene_load_memory(ctx, "small.obj", "obj", small_obj.data, small_obj.size, &scene));
+    CHECK(tt_scene_triangle_count(scene) == BUILD_CUBES * BUILD_CUBES * BUILD_CUBES * 12);
     tt_camera cam;
     tt_camera_frame_scene(scene, &cam);
 
@@ -428,6 +441,7 @@ int main(void)
     printf("%ld injected allocation failures, all refused cleanly\n", total_failures_injected);
     pthread_mutex_destroy(&A.lock);
     free(obj_text.data);
+    free(small_obj.data);
     free(ply_ascii.data);
     free(ply_binary.data);
     return tt_test_finish();
