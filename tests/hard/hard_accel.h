@@ -11,6 +11,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "compare.h"
@@ -238,55 +240,102 @@ static inline size_t hard_compare(const char *scene, const char *label, const tt
 
 /* --------------------------------------------------------- the driver */
 
-/* Called for each structure variant that built and passed its check. */
-typedef void (*hard_visit_fn)(void *user, const char *label, const tt_accel *accel);
+/* What one structure's run reports to the parent process. */
+typedef struct hard_tally {
+    int built, passed, failed;
+} hard_tally;
 
-/* Builds every variant of every registered structure on the scene, checks
- * its invariants, compares it on the ray set (and on tt_test_compare_random
- * and a small framed view, which use the start and end hints) and calls
- * visit when not NULL. Returns the number of variants built. */
+/* Every variant of structure `name`: build, check, targeted rays, random
+ * rays and a framed view against the reference. */
+static inline void hard_one_structure(tt_context *ctx, const char *name, const char *scene_name,
+                                      const tt_scene *scene, const tt_accel *ref,
+                                      const hard_rays *rays, uint32_t random_rays, hard_tally *t)
+{
+    static hard_variant v[HARD_MAX_VARIANTS];
+    tt_camera cam;
+    tt_camera_frame_scene(scene, &cam);
+    size_t nv = hard_variants(name, v);
+    for (size_t i = 0; i < nv; i++) {
+        tt_accel *acc = NULL;
+        tt_status st = tt_accel_build(ctx, scene, &v[i].opt, &acc);
+        CHECK_MSG(st == TT_OK, "%s / %s: build: %s: %s", scene_name, v[i].label, tt_strerror(st),
+                  tt_context_last_error(ctx));
+        if (st != TT_OK) continue;
+        t->built++;
+        st = tt_accel_check(acc);
+        CHECK_MSG(st == TT_OK, "%s / %s: check: %s: %s", scene_name, v[i].label, tt_strerror(st),
+                  tt_context_last_error(ctx));
+        if (rays)
+            CHECK_MSG(hard_compare(scene_name, v[i].label, acc, rays) == 0,
+                      "%s / %s: targeted rays disagree with bruteforce", scene_name, v[i].label);
+        if (random_rays) {
+            size_t bad = tt_test_compare_random(scene, acc, ref, random_rays, 12345u + (uint32_t)i);
+            CHECK_MSG(bad == 0, "%s / %s: %zu random rays disagree", scene_name, v[i].label, bad);
+            bad = tt_test_compare_view(scene, acc, ref, &cam, 12, 10);
+            CHECK_MSG(bad == 0, "%s / %s: %zu pixels of the framed view disagree", scene_name,
+                      v[i].label, bad);
+        }
+        tt_accel_destroy(acc);
+    }
+}
+
+/* Runs hard_one_structure for every registered structure, each in a child
+ * process: a structure that crashes on a hard scene is reported as such
+ * (with the scene), and the others are still tested. The child inherits
+ * the scene and the reference answers and sends its counts back through a
+ * pipe. Returns the number of variants built. HARD_ONLY=name restricts the
+ * run to one structure (a debugging aid). */
 static inline size_t hard_each_structure(tt_context *ctx, const char *scene_name,
                                          const tt_scene *scene, const hard_rays *rays,
-                                         uint32_t random_rays, hard_visit_fn visit, void *user)
+                                         uint32_t random_rays)
 {
     tt_build_options bo;
     tt_build_options_default(&bo);
     bo.accel = "bruteforce";
     tt_accel *ref = NULL;
     REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &ref));
-    tt_camera cam;
-    tt_camera_frame_scene(scene, &cam);
     size_t built = 0;
-    static hard_variant v[HARD_MAX_VARIANTS];
-    /* HARD_ONLY=name restricts the run to one structure (a debugging aid,
-     * e.g. to look past a structure that crashes). */
     const char *only = getenv("HARD_ONLY");
     for (const char *const *name = tt_accel_names(); *name; name++) {
         if (only && *only && strcmp(only, *name) != 0) continue;
-        size_t nv = hard_variants(*name, v);
-        for (size_t i = 0; i < nv; i++) {
-            tt_accel *acc = NULL;
-            tt_status st = tt_accel_build(ctx, scene, &v[i].opt, &acc);
-            CHECK_MSG(st == TT_OK, "%s / %s: build: %s: %s", scene_name, v[i].label,
-                      tt_strerror(st), tt_context_last_error(ctx));
-            if (st != TT_OK) continue;
-            built++;
-            st = tt_accel_check(acc);
-            CHECK_MSG(st == TT_OK, "%s / %s: check: %s: %s", scene_name, v[i].label,
-                      tt_strerror(st), tt_context_last_error(ctx));
-            if (rays) CHECK_MSG(hard_compare(scene_name, v[i].label, acc, rays) == 0,
-                                "%s / %s: targeted rays disagree with bruteforce", scene_name,
-                                v[i].label);
-            if (random_rays) {
-                size_t bad = tt_test_compare_random(scene, acc, ref, random_rays, 12345u + (uint32_t)i);
-                CHECK_MSG(bad == 0, "%s / %s: %zu random rays disagree", scene_name, v[i].label, bad);
-                bad = tt_test_compare_view(scene, acc, ref, &cam, 12, 10);
-                CHECK_MSG(bad == 0, "%s / %s: %zu pixels of the framed view disagree", scene_name,
-                          v[i].label, bad);
-            }
-            if (visit) visit(user, v[i].label, acc);
-            tt_accel_destroy(acc);
+        int fd[2];
+        fflush(stdout);
+        fflush(stderr);
+        if (pipe(fd) != 0) {
+            perror("pipe");
+            exit(1);
         }
+        pid_t pid = fork();
+        if (pid < 0) {
+            perror("fork");
+            exit(1);
+        }
+        if (pid == 0) {
+            close(fd[0]);
+            hard_tally t = {0, 0, 0};
+            int p0 = tt_test_passed, f0 = tt_test_failed;
+            hard_one_structure(ctx, *name, scene_name, scene, ref, rays, random_rays, &t);
+            t.passed = tt_test_passed - p0;
+            t.failed = tt_test_failed - f0;
+            ssize_t w = write(fd[1], &t, sizeof t);
+            fflush(stdout);
+            fflush(stderr);
+            _exit(w == (ssize_t)sizeof t ? 0 : 1);
+        }
+        close(fd[1]);
+        hard_tally t = {0, 0, 0};
+        ssize_t got = read(fd[0], &t, sizeof t);
+        close(fd[0]);
+        int status = 0;
+        waitpid(pid, &status, 0);
+        if (WIFSIGNALED(status) || got != (ssize_t)sizeof t) {
+            CHECK_MSG(0, "%s: %s crashed (signal %d) after %d variants", scene_name, *name,
+                      WIFSIGNALED(status) ? WTERMSIG(status) : 0, t.built);
+            continue;
+        }
+        tt_test_passed += t.passed;
+        tt_test_failed += t.failed;
+        built += (size_t)t.built;
     }
     tt_accel_destroy(ref);
     return built;

@@ -41,7 +41,7 @@ static void run_scene(tt_context *ctx, hard_mesh *m)
     size_t hits = 0;
     for (size_t i = 0; i < rays.n; i++) hits += rays.hit[i].prim != TT_INVALID_ID;
 
-    size_t built = hard_each_structure(ctx, m->name, scene, &rays, RANDOM_RAYS, NULL, NULL);
+    size_t built = hard_each_structure(ctx, m->name, scene, &rays, RANDOM_RAYS);
     CHECK(built > 0);
     printf("%-14s %6zu triangles, %5zu targeted rays (%zu hit), %3zu structure variants, %.2fs\n",
            m->name, m->nt, rays.n, hits, built, tt_now() - t0);
