@@ -219,6 +219,29 @@ static inline void hard_gen_fan(hard_mesh *m, size_t n, uint32_t seed)
     }
 }
 
+/* n triangles, two thirds of them degenerate (zero area: a repeated
+ * vertex, or three collinear points, some of them axis-aligned) among
+ * ordinary ones: boxes of zero volume, never a hit. */
+static inline void hard_gen_degenerate(hard_mesh *m, size_t n, uint32_t seed)
+{
+    m->name = "degenerate";
+    uint32_t x = seed;
+    for (size_t i = 0; i < n; i++) {
+        float a[3], b[3], c[3];
+        for (int k = 0; k < 3; k++) {
+            a[k] = hard_unit(&x);
+            b[k] = a[k] + 0.2f * hard_sym(&x);
+            c[k] = a[k] + 0.2f * hard_sym(&x);
+        }
+        if (i % 3 == 0) memcpy(c, a, sizeof c); /* a repeated vertex */
+        if (i % 3 == 1) {                        /* collinear: c on the line ab */
+            for (int k = 0; k < 3; k++) c[k] = a[k] + 2.0f * (b[k] - a[k]);
+            if (i % 2) b[1] = a[1], c[1] = a[1], b[2] = a[2], c[2] = a[2]; /* along x */
+        }
+        hard_triangle(m, a, b, c);
+    }
+}
+
 /* A grid of axis-aligned unit cubes (12 triangles each) at integer
  * coordinates with gaps: faces, edges and vertices on the planes that
  * split candidates come from, and shared edges everywhere. */

@@ -5,8 +5,9 @@
  *
  * Scenes: all triangles identical; all coplanar in an axis-aligned plane (two
  * axes); needles; random soups at 1e-6 and 1e6 scale and 1e5 away from the
- * origin; many triangles sharing one vertex; a heavily overlapping soup; a
- * single triangle; and the empty scene. */
+ * origin; many triangles sharing one vertex; a heavily overlapping soup;
+ * zero-area triangles among ordinary ones; a single triangle; and the empty
+ * scene. */
 #include "core/context.h" /* tt_now */
 #include "hard_rays.h"
 
@@ -89,6 +90,9 @@ int main(int argc, char **argv)
     run_scene(ctx, &m);
 
     hard_gen_soup(&m, "overlap", 1000, 0.6f, 18u);
+    run_scene(ctx, &m);
+
+    hard_gen_degenerate(&m, 600, 19u);
     run_scene(ctx, &m);
 
     static const float a[3] = {0, 0, 0}, b[3] = {1, 0, 0}, c[3] = {0, 1, 0};
