@@ -2,6 +2,7 @@
  * to the command table. */
 #include <string.h>
 
+#include "bench/bench.h"
 #include "cli.h"
 #include "treetrace/treetrace.h"
 
@@ -10,6 +11,8 @@ static const cli_command commands[] = {
      cmd_render_help},
     {"info", "load a scene, build a structure, print its statistics and check it", cmd_info,
      cmd_info_help},
+    {"bench", "reproduce the papers' tables against Embree: results.csv, report.md, plots",
+     tt_cli_bench, bench_print_help},
 };
 
 #define COMMAND_COUNT (sizeof commands / sizeof commands[0])

@@ -6,6 +6,7 @@
 
 static const tt_accel_vtable *const registry[] = {
     &tt_bruteforce_vtable,
+    &tt_rtree_vtable,
 #ifdef TT_HAVE_EMBREE
     &tt_embree_vtable,
 #endif

@@ -76,20 +76,30 @@ TT_HD int tt_aabb_contains_point(const tt_aabb *b, const float *p)
            p[2] >= b->lo[2] && p[2] <= b->hi[2];
 }
 
+/* min / max as plain comparisons: fminf / fmaxf must honour NaN, which keeps
+ * them out of line (libm calls) at ISO C flags. No NaN can reach the slab
+ * test: the inverse direction is finite (see ray.h) and inputs are finite. */
+TT_HD float tt_minf(float a, float b) { return a < b ? a : b; }
+TT_HD float tt_maxf(float a, float b) { return a > b ? a : b; }
+
 /* Conservative slab test on the ray's [tmin, tmax). Returns the entry
  * distance, or +inf if the box is missed. The far distance is widened by a
- * few ulps (Ize 2013) so rounding never culls a box a triangle inside it is
- * hit in; the precomputed inverse direction never holds inf (see ray.h), so
+ * few ulps (Ize 2013), and the entry lowered by a relative 2^-16 before it is
+ * compared with tmax: the triangle test computes t differently, and a
+ * triangle lying in a flat box's face can come out a few ulps nearer than the
+ * box's rounded entry. The precomputed inverse direction never holds inf, so
  * no 0 * inf NaN can arise for rays lying in a slab's plane. */
 TT_HD float tt_ray_box(const tt_wray *r, const float *lo, const float *hi, float tmax)
 {
     float tx0 = (lo[0] - r->org[0]) * r->inv[0], tx1 = (hi[0] - r->org[0]) * r->inv[0];
     float ty0 = (lo[1] - r->org[1]) * r->inv[1], ty1 = (hi[1] - r->org[1]) * r->inv[1];
     float tz0 = (lo[2] - r->org[2]) * r->inv[2], tz1 = (hi[2] - r->org[2]) * r->inv[2];
-    float tnear = fmaxf(fmaxf(fminf(tx0, tx1), fminf(ty0, ty1)), fmaxf(fminf(tz0, tz1), r->tmin));
-    float tfar = fminf(fminf(fmaxf(tx0, tx1), fmaxf(ty0, ty1)), fmaxf(tz0, tz1));
+    float tnear = tt_maxf(tt_maxf(tt_minf(tx0, tx1), tt_minf(ty0, ty1)),
+                          tt_maxf(tt_minf(tz0, tz1), r->tmin));
+    float tfar = tt_minf(tt_minf(tt_maxf(tx0, tx1), tt_maxf(ty0, ty1)), tt_maxf(tz0, tz1));
     tfar *= 1.00000024f; /* 1 + 2 gamma(3) */
-    return (tnear <= tfar && tnear < tmax) ? tnear : TT_INF;
+    float entry = tnear - fabsf(tnear) * (1.0f / 65536.0f);
+    return (tnear <= tfar && entry < tmax) ? entry : TT_INF;
 }
 
 #endif

@@ -1,0 +1,96 @@
+/* `treetrace bench`: options -> scenes -> matrix -> runs -> results.csv and
+ * report.md. */
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "bench/bench.h"
+
+static int run_bench(const bench_options *o, FILE *err)
+{
+    char found[4096];
+    const char *dir = o->scenes_dir;
+    if (!dir) {
+        dir = bench_default_scenes_dir(found, sizeof found);
+        if (!dir) {
+            fprintf(err, "treetrace bench: no scenes folder found next to the executable or the "
+                         "source (../shared/scenes); give --scenes DIR\n");
+            return 1;
+        }
+    } else {
+        char tsv[4200];
+        snprintf(tsv, sizeof tsv, "%s/scenes.tsv", dir);
+        if (access(tsv, R_OK) != 0) {
+            fprintf(err, "treetrace bench: --scenes %s: no readable scenes.tsv there\n", dir);
+            return 2;
+        }
+    }
+    char out_buf[256];
+    const char *out = o->out_dir;
+    if (!out) {
+        time_t now = time(NULL);
+        struct tm tm;
+        localtime_r(&now, &tm);
+        strftime(out_buf, sizeof out_buf, "bench/results-%Y-%m-%d", &tm);
+        out = out_buf;
+    }
+    if (bench_mkdirs(out) != 0) {
+        fprintf(err, "treetrace bench: cannot create the output folder %s\n", out);
+        return 1;
+    }
+
+    tt_context_options co;
+    tt_context_options_default(&co);
+    co.threads = o->threads;
+    tt_context *ctx = NULL;
+    if (tt_context_create(&co, &ctx) != TT_OK) {
+        fprintf(err, "treetrace bench: cannot create a context\n");
+        return 1;
+    }
+    int rc = 1;
+    bench_scene_list scenes;
+    bench_matrix m = {0};
+    bench_results res = {0};
+    int sr = bench_scenes_read(ctx, dir, o, &scenes, err);
+    if (sr != 0) {
+        rc = sr == -2 ? 2 : 1;
+        goto done_ctx;
+    }
+    if (bench_matrix_make(o, &scenes, &m) != 0) {
+        fprintf(err, "treetrace bench: out of memory\n");
+        goto done_scenes;
+    }
+    if (bench_run_all(ctx, o, &scenes, &m, out, &res, err) != 0) goto done_matrix;
+    char path[4200];
+    snprintf(path, sizeof path, "%s/results.csv", out);
+    int bad = bench_write_csv(path, &scenes, &m, &res, err);
+    bad |= bench_write_report(ctx, out, o, &scenes, &m, &res, err);
+    if (!bad) {
+        size_t failed = 0;
+        for (size_t i = 0; i < res.count; i++)
+            failed += !res.items[i].ok && strcmp(res.items[i].error, "not in this build") != 0;
+        fprintf(err, "treetrace bench: wrote %s/results.csv and %s/report.md", out, out);
+        if (failed) fprintf(err, " (%zu runs failed; see the csv's error column)", failed);
+        fputc('\n', err);
+        rc = failed ? 1 : 0;
+    }
+    bench_results_free(&res);
+done_matrix:
+    bench_matrix_free(&m);
+done_scenes:
+    bench_scenes_free(&scenes);
+done_ctx:
+    tt_context_destroy(ctx);
+    return rc;
+}
+
+int tt_cli_bench(int argc, char **argv)
+{
+    bench_options o;
+    int rc = bench_parse_options(argc, argv, &o, stderr);
+    if (rc == 1) return 0; /* --help */
+    if (rc != 0) return 2;
+    rc = run_bench(&o, stderr);
+    bench_options_free(&o);
+    return rc;
+}

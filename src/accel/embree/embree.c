@@ -1,0 +1,354 @@
+/* The "embree" structure: Intel Embree 3 as the reference ray tracer of the
+ * benchmark. One RTCDevice and one RTCScene per structure, holding a single
+ * triangle geometry built from the scene's vertices and indices, traced with
+ * single-ray queries (rtcIntersect1 / rtcOccluded1) because our structures
+ * are compared per ray as well.
+ *
+ * Intervals. Our rays cover [tmin, tmax). In robust mode (which we use)
+ * Embree's triangle test accepts tnear <= t <= tfar, closed at both ends
+ * (the default Moeller test is open at tnear; we never use it). So tnear is
+ * tmin and tfar the largest float below tmax, which makes "t <= tfar" the
+ * same predicate as "t < tmax" for a float t. Embree's traversal clamps
+ * tnear to 0, so a negative tmin is honoured by moving the origin to
+ * org + tmin * dir first. Embree decides hits its own way (a Pluecker test
+ * with a one-ulp tolerance on the edges), so a hit within an ulp or so of
+ * either end, or of a silhouette edge, may still be decided differently
+ * from our watertight test; that is the only inexactness left. The t, u, v
+ * of a closest hit are our own (see embree_intersect).
+ *
+ * A known Embree limitation (shared by any slab test that uses a finite
+ * stand-in for 1/0): a ray with a zero direction component lying exactly in
+ * the plane of a box's upper face gets the slab [-big, 0] on that axis and
+ * is culled, so Embree misses triangles lying in that face for such rays.
+ *
+ * Statistics. Embree's internals (nodes, boxes, triangle tests) cannot be
+ * counted from outside, so the counting variants count rays only and every
+ * other field stays 0. The memory is what Embree allocates, observed through
+ * the device's memory monitor: its BVH plus its own copy of the vertices and
+ * indices (Embree needs padded buffers, so it cannot share the scene's). */
+#include <embree3/rtcore.h>
+#include <math.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "accel/accel.h"
+#include "geometry/triangle.h"
+
+#define EMBREE_MESSAGE_MAX 512
+
+typedef struct embree_impl {
+    RTCDevice device;
+    RTCScene scene;
+    int has_geometry;         /* 0 for an empty scene: nothing attached      */
+    int committed;            /* rtcCommitScene returned without an error    */
+    atomic_llong bytes;       /* live bytes, from the memory monitor         */
+    atomic_llong peak_bytes;  /* the most live bytes seen (during the build) */
+    long long geometry_bytes; /* live bytes after the buffers, before the BVH */
+    /* The first error Embree reported; the callback may run on Embree's
+     * build threads, so it only claims the slot once (atomic flag). */
+    atomic_int error_claimed;
+    int error_code;
+    char error[EMBREE_MESSAGE_MAX];
+} embree_impl;
+
+static const char *rtc_error_name(enum RTCError code)
+{
+    switch (code) {
+    case RTC_ERROR_NONE: return "no error";
+    case RTC_ERROR_UNKNOWN: return "unknown error";
+    case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
+    case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
+    case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
+    case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
+    case RTC_ERROR_CANCELLED: return "cancelled";
+    }
+    return "unrecognised error";
+}
+
+static void on_rtc_error(void *user, enum RTCError code, const char *message)
+{
+    embree_impl *e = user;
+    if (atomic_exchange(&e->error_claimed, 1)) return;
+    e->error_code = (int)code;
+    snprintf(e->error, sizeof e->error, "%s%s%s", rtc_error_name(code), message ? ": " : "",
+             message ? message : "");
+}
+
+static bool on_rtc_memory(void *user, ssize_t bytes, bool post)
+{
+    embree_impl *e = user;
+    (void)post; /* counted once, before the allocation (post is for frees) */
+    long long now = atomic_fetch_add(&e->bytes, (long long)bytes) + (long long)bytes;
+    long long peak = atomic_load(&e->peak_bytes);
+    while (now > peak && !atomic_compare_exchange_weak(&e->peak_bytes, &peak, now)) {
+    }
+    return true; /* never veto an allocation: Embree would report it as an error */
+}
+
+/* Turns the first recorded Embree error (if any) into a tt_error. */
+static tt_status embree_failed(tt_accel *a, const char *step)
+{
+    embree_impl *e = a->impl;
+    if (e && atomic_load(&e->error_claimed)) {
+        tt_status st = e->error_code == RTC_ERROR_OUT_OF_MEMORY ? TT_ERR_OUT_OF_MEMORY
+                                                                : TT_ERR_INTERNAL;
+        return tt_error(a->ctx, st, "embree: %s failed: %s", step, e->error);
+    }
+    return TT_OK;
+}
+
+static tt_status embree_build(tt_accel *a)
+{
+    const tt_scene *s = a->scene;
+    if (s->triangle_count > UINT32_MAX - 1 || s->vertex_count > UINT32_MAX)
+        return tt_error(a->ctx, TT_ERR_INVALID_ARGUMENT,
+                        "embree: %zu triangles / %zu vertices exceed Embree's 32-bit ids",
+                        s->triangle_count, s->vertex_count);
+    embree_impl *e = tt_calloc(a->ctx, 1, sizeof *e);
+    if (!e) return tt_error(a->ctx, TT_ERR_OUT_OF_MEMORY, "embree: out of memory");
+    a->impl = e;
+    atomic_init(&e->bytes, 0);
+    atomic_init(&e->peak_bytes, 0);
+    atomic_init(&e->error_claimed, 0);
+
+    /* Embree builds with its own (TBB) threads; honour the context's count. */
+    char config[64] = "verbose=0";
+    int threads = tt_context_threads(a->ctx);
+    if (threads > 0) snprintf(config, sizeof config, "verbose=0,threads=%d", threads);
+    e->device = rtcNewDevice(config);
+    if (!e->device)
+        return tt_error(a->ctx, TT_ERR_INTERNAL, "embree: rtcNewDevice(\"%s\") failed: %s",
+                        config, rtc_error_name(rtcGetDeviceError(NULL)));
+    rtcSetDeviceErrorFunction(e->device, on_rtc_error, e);
+    rtcSetDeviceMemoryMonitorFunction(e->device, on_rtc_memory, e);
+
+    e->scene = rtcNewScene(e->device);
+    tt_status st = embree_failed(a, "rtcNewScene");
+    if (st != TT_OK) return st;
+    /* ROBUST: conservative box tests and the watertight Pluecker triangle
+     * test, the closest Embree gets to our watertight test (see the top). */
+    rtcSetSceneFlags(e->scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(e->scene, RTC_BUILD_QUALITY_HIGH);
+
+    if (s->triangle_count > 0) {
+        RTCGeometry g = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        if ((st = embree_failed(a, "rtcNewGeometry")) != TT_OK) {
+            if (g) rtcReleaseGeometry(g);
+            return st;
+        }
+        rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_HIGH);
+        float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                           3 * sizeof(float), s->vertex_count);
+        uint32_t *idx = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                3 * sizeof(uint32_t), s->triangle_count);
+        if ((st = embree_failed(a, "rtcSetNewGeometryBuffer")) != TT_OK || !v || !idx) {
+            rtcReleaseGeometry(g);
+            return st != TT_OK ? st
+                               : tt_error(a->ctx, TT_ERR_OUT_OF_MEMORY,
+                                          "embree: no geometry buffers for %zu triangles",
+                                          s->triangle_count);
+        }
+        memcpy(v, s->vertices, s->vertex_count * 3 * sizeof(float));
+        memcpy(idx, s->indices, s->triangle_count * 3 * sizeof(uint32_t));
+        rtcCommitGeometry(g);
+        unsigned id = rtcAttachGeometry(e->scene, g);
+        rtcReleaseGeometry(g); /* the scene holds its own reference */
+        if ((st = embree_failed(a, "attaching the triangle geometry")) != TT_OK) return st;
+        if (id != 0)
+            return tt_error(a->ctx, TT_ERR_INTERNAL, "embree: geometry id %u, expected 0", id);
+        e->has_geometry = 1;
+    }
+    e->geometry_bytes = atomic_load(&e->bytes);
+    rtcCommitScene(e->scene);
+    if ((st = embree_failed(a, "rtcCommitScene")) != TT_OK) return st;
+    e->committed = 1;
+    return TT_OK;
+}
+
+static void embree_destroy(tt_accel *a)
+{
+    embree_impl *e = a->impl;
+    if (!e) return;
+    if (e->scene) rtcReleaseScene(e->scene);
+    if (e->device) rtcReleaseDevice(e->device);
+    tt_free(a->ctx, e);
+    a->impl = NULL;
+}
+
+/* The largest float below x (x itself for -inf); see the top for why. */
+static float below(float x) { return nextafterf(x, -INFINITY); }
+
+/* Fills Embree's ray from ours. Returns 0 when [tmin, tmax) is empty, so
+ * the caller reports a miss without asking Embree. *shift is what must be
+ * added to Embree's t to get ours (non-zero only for a negative tmin). */
+static int to_rtc_ray(const tt_accel *a, const tt_wray *r, struct RTCRay *out, float *shift)
+{
+    float tmin = r->tmin, tmax = r->tmax;
+    if (isinf(tmin) && tmin < 0.0f) {
+        /* No start point at -inf: any t behind every vertex will do. */
+        float lo[3], hi[3], reach2 = 0.0f, len2 = 0.0f;
+        tt_scene_bounds(a->scene, lo, hi);
+        for (int k = 0; k < 3; k++) {
+            float d = fmaxf(fabsf(lo[k] - r->org[k]), fabsf(hi[k] - r->org[k]));
+            reach2 += d * d;
+            len2 += r->dir[k] * r->dir[k];
+        }
+        tmin = -2.0f * sqrtf(reach2 / len2) - 1.0f;
+    }
+    if (!(tmin < tmax)) return 0;
+    *shift = 0.0f;
+    out->org_x = r->org[0];
+    out->org_y = r->org[1];
+    out->org_z = r->org[2];
+    if (tmin < 0.0f) {
+        /* Embree's traversal starts at t = 0: start the ray at tmin instead. */
+        out->org_x += tmin * r->dir[0];
+        out->org_y += tmin * r->dir[1];
+        out->org_z += tmin * r->dir[2];
+        *shift = tmin;
+        tmax -= tmin;
+        tmin = 0.0f;
+    }
+    out->dir_x = r->dir[0];
+    out->dir_y = r->dir[1];
+    out->dir_z = r->dir[2];
+    out->tnear = tmin; /* inclusive in robust mode, see the top */
+    out->tfar = isinf(tmax) ? tmax : below(tmax);
+    out->time = 0.0f;
+    out->mask = 0xFFFFFFFFu;
+    out->id = 0;
+    out->flags = 0;
+    return 1;
+}
+
+static void embree_intersect(const tt_accel *a, const tt_wray *r, tt_hit *hit,
+                             tt_trace_args *args)
+{
+    const embree_impl *e = a->impl;
+    (void)args;
+    tt_hit_clear(hit);
+    if (!e->has_geometry) return;
+    struct RTCRayHit rh;
+    float shift;
+    if (!to_rtc_ray(a, r, &rh.ray, &shift)) return;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    struct RTCIntersectContext ic;
+    rtcInitIntersectContext(&ic);
+    rtcIntersect1(e->scene, &ic, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
+    hit->prim = rh.hit.primID;
+    /* Embree chose the triangle; t, u, v are recomputed with the project's
+     * watertight test so that a hit on the same triangle gives the same
+     * bits in every structure (triangle.h's contract). Otherwise Embree's t,
+     * a few ulps off ours, moves the shadow ray's origin, and a grazing
+     * shadow ray can flip its flag. When the watertight test refuses the
+     * triangle (a ray within an ulp of an edge or of the interval's ends,
+     * which Embree's tolerant test accepted), Embree's own values stay. */
+    const float *p = a->scene->tri + 9 * (size_t)rh.hit.primID;
+    float t, u, v;
+    if (tt_intersect_triangle(r, p, p + 3, p + 6, r->tmax, &t, &u, &v)) {
+        hit->t = t;
+        hit->u = u;
+        hit->v = v;
+    } else {
+        hit->t = rh.ray.tfar + shift;
+        hit->u = rh.hit.u; /* Embree's u, v weigh vertices 1 and 2, as ours do */
+        hit->v = rh.hit.v;
+    }
+}
+
+static int embree_occluded(const tt_accel *a, const tt_wray *r, tt_trace_args *args)
+{
+    const embree_impl *e = a->impl;
+    (void)args;
+    if (!e->has_geometry) return 0;
+    struct RTCRay ray;
+    float shift;
+    if (!to_rtc_ray(a, r, &ray, &shift)) return 0;
+    struct RTCIntersectContext ic;
+    rtcInitIntersectContext(&ic);
+    rtcOccluded1(e->scene, &ic, &ray);
+    return ray.tfar == -INFINITY; /* Embree's mark for an occluded ray */
+}
+
+/* The counting variants: Embree's traversal cannot be instrumented, so only
+ * the ray itself is counted (nodes, boxes, triangles stay 0). */
+static void embree_intersect_stats(const tt_accel *a, const tt_wray *r, tt_hit *hit,
+                                   tt_trace_args *args, tt_ray_stats *stats)
+{
+    embree_intersect(a, r, hit, args);
+    stats->rays += 1;
+}
+
+static int embree_occluded_stats(const tt_accel *a, const tt_wray *r, tt_trace_args *args,
+                                 tt_ray_stats *stats)
+{
+    stats->rays += 1;
+    return embree_occluded(a, r, args);
+}
+
+static tt_status embree_check(const tt_accel *a)
+{
+    const embree_impl *e = a->impl;
+    if (!e || !e->device || !e->scene || !e->committed)
+        return tt_error(a->ctx, TT_ERR_INVARIANT, "embree: the scene was never committed");
+    if (atomic_load(&((embree_impl *)e)->error_claimed))
+        return tt_error(a->ctx, TT_ERR_INVARIANT, "embree: the device reported an error: %s",
+                        e->error);
+    const tt_aabb *want = &a->scene->bounds;
+    if (!e->has_geometry) {
+        if (a->scene->triangle_count != 0)
+            return tt_error(a->ctx, TT_ERR_INVARIANT,
+                            "embree: no geometry attached for %zu triangles",
+                            a->scene->triangle_count);
+        return TT_OK;
+    }
+    struct RTCBounds b;
+    rtcGetSceneBounds(e->scene, &b);
+    const float got_lo[3] = {b.lower_x, b.lower_y, b.lower_z};
+    const float got_hi[3] = {b.upper_x, b.upper_y, b.upper_z};
+    for (int k = 0; k < 3; k++) {
+        if (got_lo[k] != want->lo[k] || got_hi[k] != want->hi[k])
+            return tt_error(a->ctx, TT_ERR_INVARIANT,
+                            "embree: scene bounds on axis %d are [%.9g, %.9g], the scene's "
+                            "are [%.9g, %.9g]",
+                            k, got_lo[k], got_hi[k], want->lo[k], want->hi[k]);
+    }
+    return TT_OK;
+}
+
+static void embree_statistics(const tt_accel *a, tt_stat_fn fn, void *user)
+{
+    const embree_impl *e = a->impl;
+    fn(user, "triangles", (double)a->scene->triangle_count);
+    fn(user, "embree_version", (double)rtcGetDeviceProperty(e->device, RTC_DEVICE_PROPERTY_VERSION));
+    long long total = atomic_load(&((embree_impl *)e)->bytes);
+    fn(user, "memory_bytes", (double)total);
+    fn(user, "geometry_bytes", (double)e->geometry_bytes);
+    fn(user, "bvh_bytes", (double)(total - e->geometry_bytes));
+    fn(user, "peak_build_bytes", (double)atomic_load(&((embree_impl *)e)->peak_bytes));
+}
+
+static size_t embree_memory(const tt_accel *a)
+{
+    embree_impl *e = a->impl;
+    long long b = atomic_load(&e->bytes);
+    return b > 0 ? (size_t)b : 0;
+}
+
+const tt_accel_vtable tt_embree_vtable = {
+    .name = "embree",
+    .build = embree_build,
+    .destroy = embree_destroy,
+    .intersect = embree_intersect,
+    .occluded = embree_occluded,
+    .intersect_stats = embree_intersect_stats,
+    .occluded_stats = embree_occluded_stats,
+    .locate = NULL,
+    .check = embree_check,
+    .statistics = embree_statistics,
+    .memory = embree_memory,
+};

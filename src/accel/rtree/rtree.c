@@ -1,0 +1,174 @@
+/* The "rtree" structure: R*-tree-style insertion build (rtree_build.c),
+ * packed into the complete M-ary level-order array (rtree_pack.c), traced
+ * by the stackless, ordered or stack traversal (rtree_trace*.h). */
+#include "accel/rtree/rtree.h"
+#include "accel/rtree/rtree_box.h"
+
+#include <math.h>
+#include <string.h>
+
+#define TT_STATS 0
+#include "accel/stats_variant.h"
+#include "accel/rtree/rtree_trace.h"
+#undef TT_STATS
+#define TT_STATS 1
+#include "accel/stats_variant.h"
+#include "accel/rtree/rtree_trace.h"
+
+/* -------------------------------------------------------------- options */
+
+static tt_status validate(tt_context *ctx, const tt_rtree_options *o)
+{
+    if ((unsigned)o->strategy > TT_RTREE_RSTAR_SURFACE)
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "rtree: unknown strategy %d",
+                        (int)o->strategy);
+    if ((unsigned)o->split > TT_RTREE_SPLIT_QUADRATIC)
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "rtree: unknown split %d", (int)o->split);
+    if ((unsigned)o->traversal > TT_RTREE_STACK)
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "rtree: unknown traversal %d",
+                        (int)o->traversal);
+    if (o->M < 4 || o->M > TT_RT_MAX_M)
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT,
+                        "rtree: M = %d is out of range (4 <= M <= %d)", o->M, TT_RT_MAX_M);
+    if (o->m < 2 || 2 * o->m > o->M)
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT,
+                        "rtree: m = %d is out of range for M = %d (2 <= m <= M/2)", o->m, o->M);
+    if (!(o->reinsert_fraction >= 0.0f && o->reinsert_fraction < 1.0f))
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT,
+                        "rtree: reinsert_fraction = %g is out of range [0, 1)",
+                        (double)o->reinsert_fraction);
+    int p = (int)(o->reinsert_fraction * (float)(o->M + 1));
+    if (p < 1) p = 1;
+    if (o->reinsert && p > o->M + 1 - o->m)
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT,
+                        "rtree: reinsert_fraction = %g ejects %d of %d entries, leaving fewer "
+                        "than m = %d", (double)o->reinsert_fraction, p, o->M + 1, o->m);
+    return TT_OK;
+}
+
+/* ---------------------------------------------------------------- build */
+
+static void rtree_destroy(tt_accel *a)
+{
+    rt_tree *t = a->impl;
+    if (!t) return;
+    rt_tree_free(a->ctx, t);
+    tt_free(a->ctx, t);
+    a->impl = NULL;
+}
+
+static tt_status rtree_build(tt_accel *a)
+{
+    const tt_rtree_options *o = &a->options.rtree;
+    tt_status st = validate(a->ctx, o);
+    if (st != TT_OK) return st;
+    const tt_scene *scene = a->scene;
+    if (scene->triangle_count >= (size_t)1 << 31)
+        return tt_error(a->ctx, TT_ERR_INVALID_ARGUMENT, "rtree: %zu triangles, at most 2^31",
+                        scene->triangle_count);
+    const uint32_t T = (uint32_t)scene->triangle_count;
+
+    rt_tree *t = tt_calloc(a->ctx, 1, sizeof *t);
+    if (!t) return tt_error(a->ctx, TT_ERR_OUT_OF_MEMORY, "rtree: out of memory");
+    a->impl = t;
+    t->m = o->m;
+    t->traversal = o->traversal;
+
+    double t0 = tt_now();
+    float *tri_box = tt_alloc_array(a->ctx, T ? T : 1, 6 * sizeof(float));
+    if (!tri_box) return tt_error(a->ctx, TT_ERR_OUT_OF_MEMORY, "rtree: out of memory");
+    for (uint32_t i = 0; i < T; i++) {
+        const float *v = scene->tri + 9 * (size_t)i;
+        float *bx = tri_box + 6 * (size_t)i;
+        for (int k = 0; k < 3; k++) {
+            bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
+            bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
+        }
+    }
+    rt_builder b;
+    st = rt_builder_init(&b, a->ctx, o, tri_box, T);
+    for (uint32_t i = 0; i < T && st == TT_OK; i++) st = rt_builder_insert_triangle(&b, i);
+    double t1 = tt_now();
+    if (st == TT_OK) st = rt_pack(a->ctx, &b, scene->tri, t);
+    double t2 = tt_now();
+    rt_builder_free(&b);
+    tt_free(a->ctx, tri_box);
+    t->insert_s = t1 - t0;
+    t->pack_s = t2 - t1;
+    return st;
+}
+
+/* ------------------------------------------------------------- tracing */
+
+uint32_t rt_locate(const rt_tree *t, const float *p)
+{
+    if (t->traversal != TT_RTREE_AUTO) return (uint32_t)t->traversal;
+    const float *b = t->root_box;
+    int inside = p[0] >= b[0] && p[0] <= b[3] && p[1] >= b[1] && p[1] <= b[4] && p[2] >= b[2] &&
+                 p[2] <= b[5];
+    return inside ? TT_RTREE_STACKLESS : TT_RTREE_ORDERED;
+}
+
+/* The traversal for one ray: the forced one, or for auto the start hint
+ * (see rt_locate), or without a valid hint the ray's own origin. */
+static int pick(const rt_tree *t, const tt_wray *r, tt_trace_args *args)
+{
+    if (t->traversal != TT_RTREE_AUTO) return (int)t->traversal;
+    if (args) {
+        args->end_hint = TT_INVALID_ID;
+        if (args->start_hint == TT_RTREE_STACKLESS || args->start_hint == TT_RTREE_ORDERED)
+            return (int)args->start_hint;
+    }
+    return (int)rt_locate(t, r->org);
+}
+
+static void rtree_intersect(const tt_accel *a, const tt_wray *r, tt_hit *hit, tt_trace_args *args)
+{
+    const rt_tree *t = a->impl;
+    tt_rt_trace(&t->p, pick(t, r, args), r, 0, hit, NULL);
+}
+
+static int rtree_occluded(const tt_accel *a, const tt_wray *r, tt_trace_args *args)
+{
+    const rt_tree *t = a->impl;
+    return tt_rt_trace(&t->p, pick(t, r, args), r, 1, NULL, NULL);
+}
+
+static void rtree_intersect_stats(const tt_accel *a, const tt_wray *r, tt_hit *hit,
+                                  tt_trace_args *args, tt_ray_stats *stats)
+{
+    const rt_tree *t = a->impl;
+    tt_rt_trace_stats(&t->p, pick(t, r, args), r, 0, hit, stats);
+}
+
+static int rtree_occluded_stats(const tt_accel *a, const tt_wray *r, tt_trace_args *args,
+                                tt_ray_stats *stats)
+{
+    const rt_tree *t = a->impl;
+    return tt_rt_trace_stats(&t->p, pick(t, r, args), r, 1, NULL, stats);
+}
+
+static uint32_t rtree_locate(const tt_accel *a, const float *p) { return rt_locate(a->impl, p); }
+
+static tt_status rtree_check(const tt_accel *a) { return rt_check(a->ctx, a->impl, a->scene); }
+
+static void rtree_statistics(const tt_accel *a, tt_stat_fn fn, void *user)
+{
+    rt_statistics(a->impl, fn, user);
+}
+
+static size_t rtree_memory(const tt_accel *a) { return rt_tree_bytes(a->impl); }
+
+const tt_accel_vtable tt_rtree_vtable = {
+    .name = "rtree",
+    .build = rtree_build,
+    .destroy = rtree_destroy,
+    .intersect = rtree_intersect,
+    .occluded = rtree_occluded,
+    .intersect_stats = rtree_intersect_stats,
+    .occluded_stats = rtree_occluded_stats,
+    .locate = rtree_locate,
+    .check = rtree_check,
+    .statistics = rtree_statistics,
+    .memory = rtree_memory,
+};

@@ -1,0 +1,213 @@
+/* The packed R-tree of Feldmann (2015), section 4, shared by the CPU and the
+ * GPU traversals: the complete M-ary tree of height L + 1 numbered in level
+ * order (root 0, then its M child slots, ...), empty slots included, in one
+ * array. Navigation is pure index arithmetic:
+ *
+ *   Delta_L(l) = first slot of level l = sum_{i=0}^{L-l-1} M^i  (0 for l = L)
+ *   n_e(n)     = (n - Delta_L(l)) * M + Delta_L(l - 1)     first child
+ *   n_p(n)     = (n - Delta_L(l)) / M + Delta_L(l + 1)     parent
+ *   chi(n)     = (n - Delta_L(l)) mod M                    position in parent
+ *
+ * Storage of the slot array (all plain arrays, no pointers between nodes):
+ *  - box: the slots' boxes, structure of arrays per sibling group. Slot n
+ *    lives in group (n + M - 1) / M at position (n + M - 1) mod M: the root
+ *    alone in group 0 (position M - 1), and the M children of any node form
+ *    exactly one group, so a node's children are six contiguous runs of M
+ *    floats (lo x[M], lo y[M], lo z[M], hi x[M], hi y[M], hi z[M]) that the
+ *    ordered and stack traversals test together. An empty slot has all six
+ *    bounds +inf (a point at infinity: every slab test misses it) — that is
+ *    the "empty" mark.
+ *  - count: entries of every slot on levels >= 1 (slots 0 .. Delta_L(0)-1);
+ *    0 for an empty slot. A node's entries are always its first count
+ *    child slots.
+ *  - leaf_start: the triangles of leaf slot Delta_L(0) + j are
+ *    tri[leaf_start[j] .. leaf_start[j + 1]) (prefix sums over all M^L leaf
+ *    slots, so an empty leaf has an empty range).
+ *  - tri: the triangles' 9 floats in leaf order, a separate array rather than
+ *    inline in the slots: most leaf slots are empty (the complete tree is
+ *    much bigger than the real one), and inline storage would pay M * 36
+ *    bytes for each of them; separately the triangles cost exactly 36 bytes
+ *    each and a leaf's triangles are still contiguous.
+ *  - prim: the triangles' load-order ids, in leaf order.
+ * Indices are 32-bit; the builder refuses trees of 2^32 slots or more. */
+#ifndef TT_ACCEL_RTREE_PACKED_H
+#define TT_ACCEL_RTREE_PACKED_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "geometry/aabb.h"
+#include "geometry/hd.h"
+#include "geometry/ray.h"
+
+/* Entries per node: the options allow 4 <= M <= 16. */
+#define TT_RT_MAX_M 16
+/* At most 16 levels (L <= 15): with M >= 4 the slot count M^L already
+ * reaches 2^30 at L = 15, far beyond any memory budget. */
+#define TT_RT_MAX_LEVELS 16
+/* Entries of the traversal stacks: (L + 1) * M for every tree the packer
+ * accepts (it checks). */
+#define TT_RT_STACK_SIZE 160
+
+typedef struct tt_rtree_packed {
+    uint32_t M;                          /* entries per node                  */
+    uint32_t L;                          /* root level (leaves: level 0)      */
+    uint32_t m_shift;                    /* log2 M when M is a power of 2, else 0 */
+    uint32_t slots;                      /* N = (M^(L+1) - 1) / (M - 1)       */
+    uint32_t leaf_slots;                 /* M^L                               */
+    uint32_t triangles;
+    uint32_t delta[TT_RT_MAX_LEVELS + 1]; /* Delta_L(l), l = 0 .. L          */
+    /* group of the first slot of level l: (Delta_L(l) - 1) / M + 1 for
+     * l < L, 0 for the root; a slot's group follows from its level-relative
+     * index k = n - Delta_L(l) as gfirst[l] + k / M, without dividing n */
+    uint32_t gfirst[TT_RT_MAX_LEVELS + 1];
+    const float *box;          /* 6 * M floats a group, groups = (N + M - 1) / M */
+    const uint8_t *count;      /* Delta_L(0) entries                            */
+    const uint32_t *leaf_start; /* leaf_slots + 1 entries                       */
+    const float *tri;          /* 9 floats a triangle, leaf order               */
+    const uint32_t *prim;      /* load-order id of each triangle, leaf order    */
+} tt_rtree_packed;
+
+/* Division and remainder by M: shifts for the usual powers of two. */
+TT_HD uint32_t tt_rt_div(const tt_rtree_packed *t, uint32_t x)
+{
+    return t->m_shift ? x >> t->m_shift : x / t->M;
+}
+TT_HD uint32_t tt_rt_mod(const tt_rtree_packed *t, uint32_t x)
+{
+    return t->m_shift ? x & (t->M - 1) : x % t->M;
+}
+
+/* The paper's index arithmetic (slot n on level l). */
+TT_HD uint32_t tt_rt_first_child(const tt_rtree_packed *t, uint32_t n, uint32_t l)
+{
+    return (n - t->delta[l]) * t->M + t->delta[l - 1];
+}
+TT_HD uint32_t tt_rt_parent(const tt_rtree_packed *t, uint32_t n, uint32_t l)
+{
+    return tt_rt_div(t, n - t->delta[l]) + t->delta[l + 1];
+}
+TT_HD uint32_t tt_rt_chi(const tt_rtree_packed *t, uint32_t n, uint32_t l)
+{
+    return tt_rt_mod(t, n - t->delta[l]);
+}
+
+/* The first float of slot n's group and n's position in it. */
+TT_HD const float *tt_rt_group(const tt_rtree_packed *t, uint32_t n, uint32_t *pos)
+{
+    uint32_t i = n + t->M - 1;
+    *pos = tt_rt_mod(t, i);
+    return t->box + (size_t)tt_rt_div(t, i) * 6 * t->M;
+}
+
+/* min/max as plain comparisons: fminf/fmaxf are library calls on the CPU
+ * unless the compiler may assume no NaNs, and no NaN arises here (the
+ * inverse direction is finite and nonzero, box bounds are finite or the
+ * +inf empty mark, so no 0 * inf and no inf - inf). */
+TT_HD float tt_rt_min(float a, float b) { return a < b ? a : b; }
+TT_HD float tt_rt_max(float a, float b) { return a > b ? a : b; }
+
+/* The group holding the M child slots of slot n on level l > 0 (they fill
+ * it exactly: n_e(n) is the first slot of group gfirst[l-1] + n - Delta_L(l)). */
+TT_HD const float *tt_rt_child_group(const tt_rtree_packed *t, uint32_t n, uint32_t l)
+{
+    return t->box + (size_t)(t->gfirst[l - 1] + (n - t->delta[l])) * 6 * t->M;
+}
+
+/* Slab test of the box at position pos of group g: tt_ray_box
+ * (geometry/aabb.h), same operations in the same order, so the same
+ * conservative widening of the far distance holds; the returned entry
+ * distance is lowered a little (see below). */
+TT_HD float tt_rt_box_test(const tt_wray *r, const float *g, uint32_t M, uint32_t pos,
+                           float tmax)
+{
+    const float tx0 = (TT_LDG(g + pos) - r->org[0]) * r->inv[0];
+    const float ty0 = (TT_LDG(g + M + pos) - r->org[1]) * r->inv[1];
+    const float tz0 = (TT_LDG(g + 2 * M + pos) - r->org[2]) * r->inv[2];
+    const float tx1 = (TT_LDG(g + 3 * M + pos) - r->org[0]) * r->inv[0];
+    const float ty1 = (TT_LDG(g + 4 * M + pos) - r->org[1]) * r->inv[1];
+    const float tz1 = (TT_LDG(g + 5 * M + pos) - r->org[2]) * r->inv[2];
+    const float tnear = tt_rt_max(tt_rt_max(tt_rt_min(tx0, tx1), tt_rt_min(ty0, ty1)),
+                                  tt_rt_max(tt_rt_min(tz0, tz1), r->tmin));
+    float tfar = tt_rt_min(tt_rt_min(tt_rt_max(tx0, tx1), tt_rt_max(ty0, ty1)),
+                           tt_rt_max(tz0, tz1));
+    tfar *= 1.00000024f; /* 1 + 2 gamma(3), as in tt_ray_box */
+    /* The entry distance is compared with hit distances from the triangle
+     * test, a different computation: a triangle inside the box can come out
+     * a few ulps nearer than the box's rounded entry (e.g. a flat box and a
+     * ray whose tmax ends just behind the plane). Culling with the entry
+     * lowered by a relative 2^-16 never drops such a box. */
+    const float entry = tnear - fabsf(tnear) * (1.0f / 65536.0f);
+    return (tnear <= tfar && entry < tmax) ? entry : TT_INF;
+}
+
+/* The slab test of four consecutive slots of a group (stride M between the
+ * six bound arrays). Identical per slot to tt_rt_box_test: on x86 CPUs as
+ * SSE instructions (minps/maxps compute exactly a < b ? a : b and
+ * a > b ? a : b, like tt_rt_min/tt_rt_max; no FMA contraction under ISO C),
+ * elsewhere (and on the GPU) as a plain loop. The ray is broadcast to SIMD
+ * lanes once per ray (tt_rt_lanes_init), not once per node. */
+#if defined(__SSE2__) && !defined(__CUDACC__)
+#include <emmintrin.h>
+typedef struct tt_rt_lanes {
+    __m128 ox, oy, oz, ix, iy, iz, tmin;
+} tt_rt_lanes;
+
+TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r)
+{
+    s->ox = _mm_set1_ps(r->org[0]);
+    s->oy = _mm_set1_ps(r->org[1]);
+    s->oz = _mm_set1_ps(r->org[2]);
+    s->ix = _mm_set1_ps(r->inv[0]);
+    s->iy = _mm_set1_ps(r->inv[1]);
+    s->iz = _mm_set1_ps(r->inv[2]);
+    s->tmin = _mm_set1_ps(r->tmin);
+}
+
+TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, uint32_t M,
+                           float tmax, float *TT_RESTRICT out)
+{
+    const __m128 tx0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g), s->ox), s->ix);
+    const __m128 ty0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + M), s->oy), s->iy);
+    const __m128 tz0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 2 * M), s->oz), s->iz);
+    const __m128 tx1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 3 * M), s->ox), s->ix);
+    const __m128 ty1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 4 * M), s->oy), s->iy);
+    const __m128 tz1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 5 * M), s->oz), s->iz);
+    const __m128 tn = _mm_max_ps(_mm_max_ps(_mm_min_ps(tx0, tx1), _mm_min_ps(ty0, ty1)),
+                                 _mm_max_ps(_mm_min_ps(tz0, tz1), s->tmin));
+    const __m128 tf = _mm_mul_ps(_mm_min_ps(_mm_min_ps(_mm_max_ps(tx0, tx1), _mm_max_ps(ty0, ty1)),
+                                            _mm_max_ps(tz0, tz1)),
+                                 _mm_set1_ps(1.00000024f));
+    const __m128 abs_tn = _mm_and_ps(tn, _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)));
+    const __m128 entry = _mm_sub_ps(tn, _mm_mul_ps(abs_tn, _mm_set1_ps(1.0f / 65536.0f)));
+    const __m128 hit = _mm_and_ps(_mm_cmple_ps(tn, tf), _mm_cmplt_ps(entry, _mm_set1_ps(tmax)));
+    _mm_storeu_ps(out, _mm_or_ps(_mm_and_ps(hit, entry), _mm_andnot_ps(hit, _mm_set1_ps(TT_INF))));
+}
+#else
+typedef struct tt_rt_lanes {
+    const tt_wray *r;
+} tt_rt_lanes;
+
+TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r) { s->r = r; }
+
+TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, uint32_t M,
+                           float tmax, float *TT_RESTRICT out)
+{
+    for (uint32_t i = 0; i < 4; i++) out[i] = tt_rt_box_test(s->r, g, M, i, tmax);
+}
+#endif
+
+/* The slab test of all M slots of one group at once (a node's children):
+ * out[i] is slot i's entry distance or +inf. Four at a time when M is a
+ * multiple of 4, one at a time otherwise. */
+TT_HD void tt_rt_group_test(const tt_rt_lanes *s, const tt_wray *r, const float *TT_RESTRICT g,
+                            uint32_t M, float tmax, float *TT_RESTRICT out)
+{
+    if ((M & 3) == 0) {
+        for (uint32_t i = 0; i < M; i += 4) tt_rt_box_test4(s, g + i, M, tmax, out + i);
+    } else {
+        for (uint32_t i = 0; i < M; i++) out[i] = tt_rt_box_test(r, g, M, i, tmax);
+    }
+}
+
+#endif

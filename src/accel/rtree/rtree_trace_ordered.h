@@ -1,0 +1,98 @@
+/* Ordered traversal (Feldmann 2015, Listing 2), a template compiled once per
+ * statistics variant and shared with the CUDA backend. One small stack per
+ * level l holds the hit children of the node being expanded on l, sorted by
+ * entry distance with insertion sort (nearest on top); the walk takes the
+ * nearest child, and climbs a level when that level's stack runs dry. Stack
+ * l lives at entries l*M .. l*M + M - 1 of one fixed array ((L+1) * M <=
+ * TT_RT_STACK_SIZE, checked when packing). An entry farther than the
+ * closest hit found since it was pushed is dropped when popped. */
+#include "accel/rtree/rtree_packed.h"
+#include "geometry/triangle.h"
+
+TT_HD int TT_VARIANT(tt_rt_ordered)(const tt_rtree_packed *TT_RESTRICT t, const tt_wray *r,
+                                     int any, tt_hit *hit, tt_ray_stats *stats)
+{
+    const uint32_t M = t->M, L = t->L;
+    float best = r->tmax, bu = 0.0f, bv = 0.0f;
+    uint32_t found = TT_INVALID_ID;
+    uint32_t stack_node[TT_RT_STACK_SIZE];
+    float stack_t[TT_RT_STACK_SIZE];
+    uint32_t sp[TT_RT_MAX_LEVELS + 1];
+    tt_rt_lanes lanes;
+    tt_rt_lanes_init(&lanes, r);
+    (void)stats;
+    TT_COUNT(stats, rays, 1);
+
+    uint32_t pos, n = 0, l = L;
+    const float *g = tt_rt_group(t, 0, &pos);
+    if (TT_LDG(g + pos) == TT_INF) goto done; /* empty tree */
+    TT_COUNT(stats, boxes, 1);
+    if (!(tt_rt_box_test(r, g, M, pos, best) < best)) goto done;
+    for (;;) {
+        TT_COUNT(stats, nodes, 1);
+        if (l > 0) {
+            TT_COUNT(stats, interior, 1);
+            const uint32_t c0 = tt_rt_first_child(t, n, l);
+            const uint32_t cnt = TT_LDG(t->count + n);
+            const float *cg = tt_rt_child_group(t, n, l);
+            uint32_t *sn = stack_node + l * M;
+            float *st = stack_t + l * M;
+            uint32_t top = 0;
+            TT_COUNT(stats, boxes, cnt);
+            float tbox[TT_RT_MAX_M];
+            tt_rt_group_test(&lanes, r, cg, M, best, tbox);
+            for (uint32_t i = 0; i < cnt; i++) {
+                const float tb = tbox[i];
+                if (tb < best) {
+                    /* insertion sort: farthest at the bottom */
+                    uint32_t j = top++;
+                    while (j > 0 && st[j - 1] < tb) {
+                        st[j] = st[j - 1];
+                        sn[j] = sn[j - 1];
+                        j--;
+                    }
+                    st[j] = tb;
+                    sn[j] = c0 + i;
+                }
+            }
+            sp[l] = top;
+        } else {
+            TT_COUNT(stats, leaves, 1);
+            const uint32_t j = n - t->delta[0];
+            const uint32_t a = TT_LDG(t->leaf_start + j), e = TT_LDG(t->leaf_start + j + 1);
+            TT_COUNT(stats, triangles, e - a);
+            for (uint32_t k = a; k < e; k++) {
+                const float *p = t->tri + 9 * (size_t)k;
+                float tt, u, v;
+                if (tt_intersect_triangle(r, p, p + 3, p + 6, best, &tt, &u, &v)) {
+                    if (any) return 1;
+                    best = tt;
+                    bu = u;
+                    bv = v;
+                    found = k;
+                }
+            }
+            l = 1; /* continue with the stack of the leaf's parent */
+            if (L == 0) goto done;
+        }
+        /* the nearest remaining entry, climbing past empty stacks */
+        for (;;) {
+            while (l <= L && sp[l] == 0) l++;
+            if (l > L) goto done;
+            const uint32_t k = --sp[l];
+            if (stack_t[l * M + k] < best) {
+                n = stack_node[l * M + k];
+                l--;
+                break;
+            }
+        }
+    }
+done:
+    if (!any) {
+        hit->t = found == TT_INVALID_ID ? TT_INF : best;
+        hit->u = bu;
+        hit->v = bv;
+        hit->prim = found == TT_INVALID_ID ? TT_INVALID_ID : TT_LDG(t->prim + found);
+    }
+    return found != TT_INVALID_ID;
+}

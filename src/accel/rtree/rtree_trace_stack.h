@@ -1,0 +1,87 @@
+/* Conventional stack-based traversal (the paper's "stack" baseline of Table
+ * 3), a template compiled once per statistics variant and shared with the
+ * CUDA backend: one stack of (slot, level, entry distance); a node's hit
+ * children are pushed in reverse memory order (so they are visited in
+ * memory order, like a recursive descent, without sorting), and an entry
+ * farther than the closest hit found since it was pushed is dropped when
+ * popped. At most M - 1 entries per level wait while a node's children are
+ * pushed, so (L + 1) * M <= TT_RT_STACK_SIZE entries suffice. */
+#include "accel/rtree/rtree_packed.h"
+#include "geometry/triangle.h"
+
+TT_HD int TT_VARIANT(tt_rt_stack)(const tt_rtree_packed *TT_RESTRICT t, const tt_wray *r, int any,
+                                   tt_hit *hit, tt_ray_stats *stats)
+{
+    const uint32_t M = t->M, L = t->L;
+    float best = r->tmax, bu = 0.0f, bv = 0.0f;
+    uint32_t found = TT_INVALID_ID;
+    uint32_t stack_node[TT_RT_STACK_SIZE];
+    float stack_t[TT_RT_STACK_SIZE];
+    uint8_t stack_l[TT_RT_STACK_SIZE];
+    uint32_t sp = 0;
+    tt_rt_lanes lanes;
+    tt_rt_lanes_init(&lanes, r);
+    (void)stats;
+    TT_COUNT(stats, rays, 1);
+
+    uint32_t pos;
+    const float *g = tt_rt_group(t, 0, &pos);
+    if (TT_LDG(g + pos) == TT_INF) goto done; /* empty tree */
+    TT_COUNT(stats, boxes, 1);
+    {
+        const float tb = tt_rt_box_test(r, g, M, pos, best);
+        if (!(tb < best)) goto done;
+        stack_node[0] = 0;
+        stack_t[0] = tb;
+        stack_l[0] = (uint8_t)L;
+        sp = 1;
+    }
+    while (sp > 0) {
+        sp--;
+        if (!(stack_t[sp] < best)) continue;
+        const uint32_t n = stack_node[sp], l = stack_l[sp];
+        TT_COUNT(stats, nodes, 1);
+        if (l > 0) {
+            TT_COUNT(stats, interior, 1);
+            const uint32_t c0 = tt_rt_first_child(t, n, l);
+            const uint32_t cnt = TT_LDG(t->count + n);
+            const float *cg = tt_rt_child_group(t, n, l);
+            TT_COUNT(stats, boxes, cnt);
+            float tbox[TT_RT_MAX_M];
+            tt_rt_group_test(&lanes, r, cg, M, best, tbox);
+            for (uint32_t i = cnt; i-- > 0;) {
+                const float tb = tbox[i];
+                if (tb < best) {
+                    stack_node[sp] = c0 + i;
+                    stack_t[sp] = tb;
+                    stack_l[sp] = (uint8_t)(l - 1);
+                    sp++;
+                }
+            }
+        } else {
+            TT_COUNT(stats, leaves, 1);
+            const uint32_t j = n - t->delta[0];
+            const uint32_t a = TT_LDG(t->leaf_start + j), e = TT_LDG(t->leaf_start + j + 1);
+            TT_COUNT(stats, triangles, e - a);
+            for (uint32_t k = a; k < e; k++) {
+                const float *p = t->tri + 9 * (size_t)k;
+                float tt, u, v;
+                if (tt_intersect_triangle(r, p, p + 3, p + 6, best, &tt, &u, &v)) {
+                    if (any) return 1;
+                    best = tt;
+                    bu = u;
+                    bv = v;
+                    found = k;
+                }
+            }
+        }
+    }
+done:
+    if (!any) {
+        hit->t = found == TT_INVALID_ID ? TT_INF : best;
+        hit->u = bu;
+        hit->v = bv;
+        hit->prim = found == TT_INVALID_ID ? TT_INVALID_ID : TT_LDG(t->prim + found);
+    }
+    return found != TT_INVALID_ID;
+}

@@ -1,0 +1,84 @@
+/* Stackless traversal (Feldmann 2015, Listing 1), a template compiled once
+ * per statistics variant (see accel/stats_variant.h) and shared with the
+ * CUDA backend: depth first over the packed tree using only the index
+ * arithmetic (n_e, n_p, chi); no stack, constant memory per ray. A box
+ * farther than the closest hit so far is skipped; with `any` set (shadow
+ * rays) the first hit ends the traversal.
+ *
+ * One refinement of the listing that changes no result: a node's entries
+ * are its first child slots, so an empty slot means its later siblings are
+ * empty too and the walk goes straight up instead of stepping over them. */
+#include "accel/rtree/rtree_packed.h"
+#include "geometry/triangle.h"
+
+TT_HD int TT_VARIANT(tt_rt_stackless)(const tt_rtree_packed *TT_RESTRICT t, const tt_wray *r,
+                                       int any, tt_hit *hit, tt_ray_stats *stats)
+{
+    const uint32_t M = t->M, L = t->L;
+    float best = r->tmax, bu = 0.0f, bv = 0.0f;
+    uint32_t found = TT_INVALID_ID;
+    /* n: the slot (paper's numbering) on level l; g, pos: its group and
+     * position chi(n) there, kept along so that no step divides n */
+    uint32_t n = 0, l = L, pos = M - 1; /* the root: group 0, last position */
+    const float *g = t->box;
+    (void)stats;
+    TT_COUNT(stats, rays, 1);
+    for (;;) {
+        const int empty = TT_LDG(g + pos) == TT_INF;
+        if (!empty) {
+            TT_COUNT(stats, boxes, 1);
+            if (tt_rt_box_test(r, g, M, pos, best) < best) {
+                TT_COUNT(stats, nodes, 1);
+                if (l > 0) { /* n = n_e(n), one level down */
+                    TT_COUNT(stats, interior, 1);
+                    g = tt_rt_child_group(t, n, l);
+                    n = tt_rt_first_child(t, n, l);
+                    l--;
+                    pos = 0;
+                    continue;
+                }
+                TT_COUNT(stats, leaves, 1);
+                const uint32_t j = n - t->delta[0];
+                const uint32_t a = TT_LDG(t->leaf_start + j), e = TT_LDG(t->leaf_start + j + 1);
+                TT_COUNT(stats, triangles, e - a);
+                for (uint32_t k = a; k < e; k++) {
+                    const float *p = t->tri + 9 * (size_t)k;
+                    float tt, u, v;
+                    if (tt_intersect_triangle(r, p, p + 3, p + 6, best, &tt, &u, &v)) {
+                        if (any) return 1;
+                        best = tt;
+                        bu = u;
+                        bv = v;
+                        found = k;
+                    }
+                }
+            }
+        }
+        /* the next sibling (chi(n) < M - 1), or the next sibling of the
+         * nearest ancestor that has one (n = n_p(n)); done at the root */
+        int last = empty;
+        for (;;) {
+            if (l == L) goto done;
+            if (!last && pos < M - 1) {
+                n++;
+                pos++;
+                break;
+            }
+            const uint32_t kp = tt_rt_div(t, n - t->delta[l]); /* n_p(n) - Delta_L(l+1) */
+            n = kp + t->delta[l + 1];
+            l++;
+            if (l == L) goto done;
+            pos = tt_rt_mod(t, kp); /* chi(n_p(n)) */
+            g = t->box + (size_t)(t->gfirst[l] + tt_rt_div(t, kp)) * 6 * M;
+            last = 0;
+        }
+    }
+done:
+    if (!any) {
+        hit->t = found == TT_INVALID_ID ? TT_INF : best;
+        hit->u = bu;
+        hit->v = bv;
+        hit->prim = found == TT_INVALID_ID ? TT_INVALID_ID : TT_LDG(t->prim + found);
+    }
+    return found != TT_INVALID_ID;
+}

@@ -1,0 +1,49 @@
+/* `treetrace bench` refuses bad options with exit status 2 and a message
+ * naming the option, before running anything; --help exits 0. */
+#include "bench_support.h"
+
+static void expect_bad(const char *args, const char *mention, const char *log)
+{
+    int rc = run_bench(args, log);
+    CHECK_MSG(rc == 2, "'%s' exited %d, expected 2", args, rc);
+    char *out = read_text(log);
+    CHECK_MSG(out && strstr(out, mention), "'%s': the message does not mention '%s': %s", args,
+              mention, out ? out : "(no output)");
+    free(out);
+}
+
+int main(void)
+{
+    const char *scenes = make_tiny_scenes();
+    char log[600], args[2048];
+    snprintf(log, sizeof log, "%s/log.txt", scenes);
+
+    expect_bad("--bogus", "--bogus", log);
+    expect_bad("--repeat 0", "--repeat", log);
+    expect_bad("--repeat x", "--repeat", log);
+    expect_bad("--threads -1", "--threads", log);
+    expect_bad("--threads", "--threads needs a value", log);
+    expect_bad("--only F9", "F9", log);
+    expect_bad("--only=", "--only", log);
+    expect_bad("--size 100", "--size", log);
+    expect_bad("--size 0x10", "--size", log);
+    expect_bad("--kd-size 10x", "--kd-size", log);
+    expect_bad("--dmin 0", "--dmin", log);
+    expect_bad("--dmin 5-2", "--dmin", log);
+    expect_bad("--budget -1", "--budget", log);
+    expect_bad("--quick=1", "--quick takes no value", log);
+    expect_bad("--all-views --first-view", "contradict", log);
+    expect_bad("--scenes /nonexistent/folder", "/nonexistent/folder", log);
+    snprintf(args, sizeof args, "--scenes '%s' --scene nosuchscene --out '%s/out'", scenes, scenes);
+    expect_bad(args, "nosuchscene", log);
+
+    int rc = run_bench("--help", log);
+    CHECK(rc == 0);
+    char *out = read_text(log);
+    CHECK(out && strstr(out, "usage: treetrace bench") && strstr(out, "--quick") &&
+          strstr(out, "--only"));
+    free(out);
+
+    remove_tree(scenes);
+    return tt_test_finish();
+}
