@@ -169,13 +169,17 @@ typedef enum tt_kd_traversal {
 
 typedef struct tt_kdtree_options {
     tt_kd_builder builder;  /* default TT_KD_NLOGN                             */
-    int dmin;               /* sparse boxes every dmin levels; <0: no boxes    */
+    int dmin;               /* >= 1: a sparse box every dmin levels; < 0: only */
+                            /* the root's box; 0 is refused; default 4        */
     float cost_traversal;   /* SAH C_T, default 1                              */
     float cost_intersect;   /* SAH C_I, default 1.5                            */
-    float empty_bonus;      /* default 0.8 (cost factor 1 - bonus... see docs) */
+    float empty_bonus;      /* in [0, 1): a split with an empty side costs    */
+                            /* (1 - bonus) x; default 0.2 (W&H's 0.8 factor)  */
     int max_depth;          /* 0: automatic (8 + 1.3 log2 N)                   */
     tt_kd_traversal traversal;
-    int shadow_caster_hint; /* shadow rays start at the last caster's node     */
+    int shadow_caster_hint; /* 1: an occlusion ray first searches the box of  */
+                            /* the last caster, passed in args->end_hint (not */
+                            /* with htr, which uses no boxes); default 0      */
 } tt_kdtree_options;
 
 typedef struct tt_build_options {

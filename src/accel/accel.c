@@ -7,6 +7,7 @@
 static const tt_accel_vtable *const registry[] = {
     &tt_bruteforce_vtable,
     &tt_rtree_vtable,
+    &tt_kdtree_vtable,
 #ifdef TT_HAVE_EMBREE
     &tt_embree_vtable,
 #endif
@@ -46,7 +47,7 @@ void tt_build_options_default(tt_build_options *o)
     o->kdtree.dmin = 4;
     o->kdtree.cost_traversal = 1.0f;
     o->kdtree.cost_intersect = 1.5f;
-    o->kdtree.empty_bonus = 0.8f;
+    o->kdtree.empty_bonus = 0.2f; /* cost factor 0.8: Wald & Havran's lambda */
     o->kdtree.max_depth = 0;
     o->kdtree.traversal = TT_KD_HTR;
     o->kdtree.shadow_caster_hint = 0;

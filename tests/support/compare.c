@@ -1,6 +1,7 @@
 #include "compare.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -30,42 +31,48 @@ static void report(cmp_state *s, const char *kind, const tt_ray *r, const char *
 }
 
 /* Traces one ray both ways (fast and counting) with the structure under test
- * and once with the reference; returns the reference hit and the test's end
- * hint through *end. */
-static void check_closest(cmp_state *s, const tt_accel *test, const tt_accel *ref,
-                          const tt_ray *r, uint32_t start, tt_hit *ref_hit, uint32_t *end)
+ * and compares with the reference hit h_ref; returns the test's end hint
+ * through *end. */
+static void compare_closest(cmp_state *s, const tt_accel *test, const tt_ray *r, uint32_t start,
+                            tt_status e_ref, const tt_hit *h_ref, uint32_t *end)
 {
-    tt_hit h_ref, h_fast, h_stats;
+    tt_hit h_fast, h_stats;
     tt_ray_stats st;
     memset(&st, 0, sizeof st);
     tt_trace_args a_fast = {start, TT_INVALID_ID, NULL};
     tt_trace_args a_stats = {start, TT_INVALID_ID, &st};
-    tt_status e1 = tt_intersect1(ref, r, &h_ref);
     tt_status e2 = tt_intersect1_ex(test, r, &h_fast, &a_fast);
     tt_status e3 = tt_intersect1_ex(test, r, &h_stats, &a_stats);
     char msg[256];
-    if (e1 || e2 || e3) {
+    if (e_ref || e2 || e3) {
         report(s, "closest", r, "a call failed");
-    } else if (!tt_test_hits_agree(&h_ref, &h_fast) || !tt_test_hits_agree(&h_ref, &h_stats)) {
+    } else if (!tt_test_hits_agree(h_ref, &h_fast) || !tt_test_hits_agree(h_ref, &h_stats)) {
         snprintf(msg, sizeof msg, "reference prim %u t %.9g, fast prim %u t %.9g, stats prim %u t %.9g",
-                 h_ref.prim, h_ref.t, h_fast.prim, h_fast.t, h_stats.prim, h_stats.t);
+                 h_ref->prim, h_ref->t, h_fast.prim, h_fast.t, h_stats.prim, h_stats.t);
         report(s, "closest", r, msg);
     } else if (st.rays != 1) {
         report(s, "closest", r, "the counting variant did not count exactly one ray");
     }
-    if (ref_hit) *ref_hit = h_ref;
     if (end) *end = a_fast.end_hint;
 }
 
-static void check_occluded(cmp_state *s, const tt_accel *test, const tt_accel *ref,
-                           const tt_ray *r, uint32_t start)
+static void check_closest(cmp_state *s, const tt_accel *test, const tt_accel *ref,
+                          const tt_ray *r, uint32_t start, tt_hit *ref_hit, uint32_t *end)
 {
-    int o_ref = -1, o_fast = -2, o_stats = -3;
+    tt_hit h_ref;
+    tt_status e1 = tt_intersect1(ref, r, &h_ref);
+    compare_closest(s, test, r, start, e1, &h_ref, end);
+    if (ref_hit) *ref_hit = h_ref;
+}
+
+static void compare_occluded(cmp_state *s, const tt_accel *test, const tt_ray *r, uint32_t start,
+                             int o_ref)
+{
+    int o_fast = -2, o_stats = -3;
     tt_ray_stats st;
     memset(&st, 0, sizeof st);
     tt_trace_args a_fast = {start, TT_INVALID_ID, NULL};
     tt_trace_args a_stats = {start, TT_INVALID_ID, &st};
-    tt_occluded1(ref, r, &o_ref);
     tt_occluded1_ex(test, r, &o_fast, &a_fast);
     tt_occluded1_ex(test, r, &o_stats, &a_stats);
     if (o_ref != o_fast || o_ref != o_stats) {
@@ -73,6 +80,14 @@ static void check_occluded(cmp_state *s, const tt_accel *test, const tt_accel *r
         snprintf(msg, sizeof msg, "reference %d, fast %d, stats %d", o_ref, o_fast, o_stats);
         report(s, "occluded", r, msg);
     }
+}
+
+static void check_occluded(cmp_state *s, const tt_accel *test, const tt_accel *ref,
+                           const tt_ray *r, uint32_t start)
+{
+    int o_ref = -1;
+    tt_occluded1(ref, r, &o_ref);
+    compare_occluded(s, test, r, start, o_ref);
 }
 
 size_t tt_test_compare_view(const tt_scene *scene, const tt_accel *test, const tt_accel *ref,
@@ -152,4 +167,51 @@ size_t tt_test_compare_rays(const tt_accel *test, const tt_accel *ref, const tt_
         check_occluded(&s, test, ref, &rays[i], TT_INVALID_ID);
     }
     return s.bad;
+}
+
+size_t tt_test_compare_view_multi(const tt_scene *scene, const tt_accel *const *tests, size_t n_tests,
+                                  const tt_accel *ref, const tt_camera *camera, uint32_t width,
+                                  uint32_t height)
+{
+    cmp_state *states = calloc(n_tests, sizeof *states);
+    uint32_t *eye_hints = calloc(n_tests, sizeof *eye_hints);
+    if (!states || !eye_hints) {
+        free(states);
+        free(eye_hints);
+        fprintf(stderr, "tt_test_compare_view_multi: out of memory\n");
+        return 1;
+    }
+    for (size_t i = 0; i < n_tests; i++) {
+        states[i].what = tt_accel_name(tests[i]);
+        eye_hints[i] = tt_accel_locate(tests[i], camera->eye);
+    }
+    for (uint32_t y = 0; y < height; y++) {
+        for (uint32_t x = 0; x < width; x++) {
+            tt_ray r, sr;
+            tt_hit h;
+            tt_camera_ray(camera, width, height, x, y, &r);
+            tt_status e = tt_intersect1(ref, &r, &h);
+            int has_shadow = tt_shadow_ray(scene, camera, &r, &h, &sr);
+            int o_ref = -1;
+            if (has_shadow) tt_occluded1(ref, &sr, &o_ref);
+            for (size_t i = 0; i < n_tests; i++) {
+                uint32_t end = TT_INVALID_ID;
+                size_t before = states[i].bad;
+                compare_closest(&states[i], tests[i], &r, eye_hints[i], e, &h, &end);
+                if (has_shadow) compare_occluded(&states[i], tests[i], &sr, end, o_ref);
+                if (states[i].bad != before && before < MAX_REPORTS)
+                    fprintf(stderr, "  (structure %zu of %zu, pixel %u %u)\n", i, n_tests, x, y);
+            }
+        }
+    }
+    size_t bad = 0;
+    for (size_t i = 0; i < n_tests; i++) {
+        if (states[i].bad)
+            fprintf(stderr, "structure %zu (%s): %zu of %u pixels disagree\n", i, states[i].what,
+                    states[i].bad, width * height);
+        bad += states[i].bad;
+    }
+    free(states);
+    free(eye_hints);
+    return bad;
 }

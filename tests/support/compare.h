@@ -17,6 +17,13 @@ int tt_test_hits_agree(const tt_hit *a, const tt_hit *b);
 size_t tt_test_compare_view(const tt_scene *scene, const tt_accel *test, const tt_accel *ref,
                             const tt_camera *camera, uint32_t width, uint32_t height);
 
+/* The same for several structures at once, tracing the reference only once
+ * a ray (bruteforce on a big scene dominates the cost otherwise). Returns
+ * the total number of disagreeing rays over all structures. */
+size_t tt_test_compare_view_multi(const tt_scene *scene, const tt_accel *const *tests, size_t n_tests,
+                                  const tt_accel *ref, const tt_camera *camera, uint32_t width,
+                                  uint32_t height);
+
 /* n random rays with a fixed seed: origins inside and outside the scene box,
  * directions random, axis-parallel and with zero components; closest hit on
  * [0, inf) and occlusion on a random finite interval. */

@@ -1,0 +1,164 @@
+/* The parts both builders share (see kd_build.h). */
+#include "accel/kdtree/kd_build.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+tt_status kd_oom(kd_builder *b)
+{
+    return tt_error(b->ctx, TT_ERR_OUT_OF_MEMORY, "kdtree: out of memory while building (%u nodes)",
+                    b->node_count);
+}
+
+/* Half the surface area of a box with these extents. */
+static double half_area(double x, double y, double z) { return x * y + y * z + z * x; }
+
+void kd_sweep(const kd_builder *b, const uint64_t *ev, size_t n_ev, uint32_t n,
+              const tt_aabb *cell, int axis, kd_split *best)
+{
+    double ext[3];
+    for (int k = 0; k < 3; k++) ext[k] = (double)cell->hi[k] - (double)cell->lo[k];
+    double area = half_area(ext[0], ext[1], ext[2]);
+    if (!(area > 0.0)) return; /* a degenerate cell: probabilities undefined */
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    /* SA(child) = 2 (e_u e_v + e_axis (e_u + e_v)); only e_axis varies. */
+    const double cap = ext[u] * ext[v] / area, side = (ext[u] + ext[v]) / area;
+    const double lo = cell->lo[axis], hi = cell->hi[axis];
+    uint32_t nl = 0, nr = n;
+    size_t i = 0;
+    while (i < n_ev) {
+        /* All events at one position: ends, planars, starts (their order in
+         * the sorted list). */
+        const uint32_t key = kd_event_poskey(ev[i]);
+        uint32_t count[4] = {0, 0, 0, 0};
+        do count[kd_event_type(ev[i++])]++;
+        while (i < n_ev && kd_event_poskey(ev[i]) == key);
+        const uint32_t ends = count[KD_END], planars = count[KD_PLANAR], starts = count[KD_START];
+        nr -= planars + ends;
+        const float p = kd_key_float(key);
+        /* Only planes strictly inside the cell: a plane on a face would cut
+         * off a flat, empty-volume cell. */
+        if (p > cell->lo[axis] && p < cell->hi[axis]) {
+            const double pl = cap + ((double)p - lo) * side;
+            const double pr = cap + (hi - (double)p) * side;
+            /* Planar triangles on the left, then on the right (W&H). */
+            uint32_t l1 = nl + planars, r1 = nr, l2 = nl, r2 = nr + planars;
+            double c1 = b->ct + b->ci * (pl * l1 + pr * r1);
+            double c2 = b->ct + b->ci * (pl * l2 + pr * r2);
+            if (l1 == 0 || r1 == 0) c1 *= b->empty_factor;
+            if (l2 == 0 || r2 == 0) c2 *= b->empty_factor;
+            int planar_left = c1 < c2;
+            double c = planar_left ? c1 : c2;
+            if (c < best->cost) {
+                best->cost = c;
+                best->axis = axis;
+                best->pos = p;
+                best->planar_left = planar_left;
+            }
+        }
+        nl += starts + planars;
+    }
+}
+
+int kd_should_split(const kd_builder *b, uint32_t n, int depth, const kd_split *best)
+{
+    return n > 0 && depth < b->max_depth && best->axis >= 0 && best->cost < b->ci * (double)n;
+}
+
+void kd_split_cell(const tt_aabb *cell, const kd_split *s, tt_aabb *left, tt_aabb *right)
+{
+    *left = *right = *cell;
+    left->hi[s->axis] = s->pos;
+    right->lo[s->axis] = s->pos;
+}
+
+/* Room for `extra` more node slots. */
+static tt_status grow_nodes(kd_builder *b, uint32_t extra)
+{
+    if (b->node_count + extra <= b->node_cap) return TT_OK;
+    if (b->node_count + extra >= TT_KD_MAX_NODES)
+        return tt_error(b->ctx, TT_ERR_INVALID_ARGUMENT,
+                        "kdtree: the tree needs more than 2^29 nodes; raise cost_traversal or "
+                        "lower max_depth");
+    uint32_t cap = b->node_cap ? b->node_cap : 1024;
+    while (cap < b->node_count + extra) cap *= 2;
+    if (cap > TT_KD_MAX_NODES) cap = TT_KD_MAX_NODES;
+    tt_kd_node *p = tt_realloc_array(b->ctx, b->nodes, cap, sizeof *p);
+    if (!p) return kd_oom(b);
+    b->nodes = p;
+    b->node_cap = cap;
+    return TT_OK;
+}
+
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+tt_status kd_emit_leaf(kd_builder *b, uint32_t *ids, uint32_t n)
+{
+    tt_status st = grow_nodes(b, 1);
+    if (st != TT_OK) return st;
+    if (b->ref_count + n > b->ref_cap) {
+        size_t cap = b->ref_cap ? b->ref_cap : 4096;
+        while (cap < b->ref_count + n) cap *= 2;
+        uint32_t *p = tt_realloc_array(b->ctx, b->refs, cap, sizeof *p);
+        if (!p) return kd_oom(b);
+        b->refs = p;
+        b->ref_cap = cap;
+    }
+    if (b->ref_count + n > UINT32_MAX)
+        return tt_error(b->ctx, TT_ERR_OUT_OF_MEMORY, "kdtree: more than 2^32 triangle references");
+    if (n > 1) qsort(ids, n, sizeof *ids, cmp_u32);
+    for (uint32_t i = 0; i < n; i++) b->refs[b->ref_count + i] = ids[i];
+    tt_kd_node *node = &b->nodes[b->node_count++];
+    node->u.first = (uint32_t)b->ref_count;
+    node->bits = (n << 3) | TT_KD_LEAF;
+    b->ref_count += n;
+    return TT_OK;
+}
+
+tt_status kd_emit_interior(kd_builder *b, const kd_split *s, const tt_aabb *cell,
+                           const kd_place *here, uint32_t *node, kd_place *child)
+{
+    /* The root always is augmented (record 0, made before the recursion);
+     * below, a node is when it is d_min levels below the last one. */
+    int aug = here->depth == 0 || (b->dmin > 0 && here->aug_dist >= b->dmin);
+    tt_status st = grow_nodes(b, 1u + (uint32_t)aug);
+    if (st != TT_OK) return st;
+    uint32_t me = b->node_count;
+    uint32_t rec = 0;
+    if (aug && here->depth > 0) {
+        if (b->aug_count == b->aug_cap) {
+            uint32_t cap = b->aug_cap ? 2 * b->aug_cap : 256;
+            tt_kd_aug *p = tt_realloc_array(b->ctx, b->aug, cap, sizeof *p);
+            if (!p) return kd_oom(b);
+            b->aug = p;
+            b->aug_cap = cap;
+        }
+        rec = b->aug_count++;
+        tt_kd_aug *a = &b->aug[rec];
+        for (int k = 0; k < 3; k++) {
+            a->lo[k] = cell->lo[k];
+            a->hi[k] = cell->hi[k];
+        }
+        a->parent = here->parent_aug;
+        a->node = me;
+    }
+    b->nodes[me].u.split = s->pos;
+    b->nodes[me].bits = (uint32_t)s->axis | (aug ? TT_KD_AUG_BIT : 0u);
+    b->node_count++;
+    if (aug) {
+        b->nodes[me + 1].u.first = rec;
+        b->nodes[me + 1].bits = 0;
+        b->node_count++;
+    }
+    *node = me;
+    child->depth = here->depth + 1;
+    child->aug_dist = aug ? 1 : here->aug_dist + 1;
+    child->parent_aug = aug ? rec : here->parent_aug;
+    return TT_OK;
+}
+
+void kd_link_right(kd_builder *b, uint32_t node) { b->nodes[node].bits |= b->node_count << 3; }

@@ -1,0 +1,35 @@
+/* Compiles the kd-tree traversal template twice: the fast variant and the
+ * counting one (see accel/stats_variant.h). */
+#include "accel/kdtree/kd_trace_cpu.h"
+
+#define TT_STATS 0
+#include "accel/stats_variant.h"
+#include "accel/kdtree/kd_trace.h"
+#undef TT_STATS
+#define TT_STATS 1
+#include "accel/stats_variant.h"
+#include "accel/kdtree/kd_trace.h"
+
+void tt_kd_cpu_intersect(const tt_kd_view *T, int traversal, const tt_wray *r, uint32_t hint,
+                         tt_hit *hit, uint32_t *end)
+{
+    tt_kd_intersect(T, traversal, r, hint, hit, end, NULL);
+}
+
+int tt_kd_cpu_occluded(const tt_kd_view *T, int traversal, const tt_wray *r, uint32_t hint,
+                       uint32_t caster, uint32_t *end)
+{
+    return tt_kd_occluded(T, traversal, r, hint, caster, end, NULL);
+}
+
+void tt_kd_cpu_intersect_stats(const tt_kd_view *T, int traversal, const tt_wray *r,
+                               uint32_t hint, tt_hit *hit, uint32_t *end, tt_ray_stats *stats)
+{
+    tt_kd_intersect_stats(T, traversal, r, hint, hit, end, stats);
+}
+
+int tt_kd_cpu_occluded_stats(const tt_kd_view *T, int traversal, const tt_wray *r, uint32_t hint,
+                             uint32_t caster, uint32_t *end, tt_ray_stats *stats)
+{
+    return tt_kd_occluded_stats(T, traversal, r, hint, caster, end, stats);
+}

@@ -1,0 +1,78 @@
+/* HTR: the traditional stack-based hierarchical traversal (Havran & Bittner,
+ * Algorithm 1), front to back from the root. A template (see
+ * accel/stats_variant.h); include kd_trace_common.h first.
+ *
+ * At a node with the ray on [ta, tb] and the plane crossed at ts +- e (e:
+ * the rounding band of kd_ray.h), the child the ray meets first is visited
+ * on [ta, min(tb, ts + e)] if that is not empty, the other on
+ * [max(ta, ts - e), tb]: both inclusive, so a ray crossing a plane exactly
+ * or nearly at a cell boundary (an origin on a split plane, a ray through an
+ * edge or a vertex of the tree) also visits the thin cell there. A ray
+ * lying in the split plane visits both children over its whole interval.
+ * Stack entries whose interval begins at or beyond the closest hit so far
+ * are dropped; with front-to-back order that ends the traversal right after
+ * the hit's cell. */
+
+TT_HD int TT_VARIANT(tt_kd_htr)(const tt_kd_view *T, const tt_wray *r, int any, tt_kd_best *best,
+                                tt_ray_stats *stats)
+{
+    struct {
+        uint32_t node;
+        float ta, tb;
+    } stack[TT_KD_STACK];
+    float ta, tb;
+    (void)stats;
+    TT_COUNT(stats, boxes, 1);
+    tt_kd_band band;
+    tt_kd_band_init(&band, r);
+    if (!tt_kd_root_interval(T, r, &band, &ta, &tb)) return 0;
+    int sp = 0;
+    uint32_t node = 0;
+    for (;;) {
+        tt_kd_node n = T->nodes[node];
+        while (!tt_kd_is_leaf(n.bits)) {
+            TT_COUNT(stats, interior, 1);
+            TT_COUNT(stats, nodes, 1);
+            const int k = tt_kd_axis(n.bits);
+            const uint32_t left = tt_kd_left(node, n.bits), right = tt_kd_right(n.bits);
+            const float d = r->dir[k];
+            if (d == 0.0f) {
+                const float o = r->org[k];
+                if (o < n.u.split) node = left;
+                else if (o > n.u.split) node = right;
+                else {
+                    stack[sp].node = right;
+                    stack[sp].ta = ta;
+                    stack[sp].tb = tb;
+                    sp++;
+                    node = left;
+                }
+            } else {
+                const float ts = (n.u.split - r->org[k]) * r->inv[k];
+                const float e = fabsf(n.u.split) * band.bi[k] + band.bo[k];
+                const uint32_t first = d < 0.0f ? right : left, second = d < 0.0f ? left : right;
+                if (ts + e < ta) {
+                    node = second;
+                } else if (ts - e > tb) {
+                    node = first;
+                } else {
+                    stack[sp].node = second;
+                    stack[sp].ta = tt_kd_max(ta, ts - e);
+                    stack[sp].tb = tb;
+                    sp++;
+                    node = first;
+                    tb = tt_kd_min(tb, ts + e);
+                }
+            }
+            n = T->nodes[node];
+        }
+        if (TT_VARIANT(tt_kd_leaf)(T, n, r, any, best, stats)) return 1;
+        do {
+            if (sp == 0) return 0;
+            sp--;
+        } while (stack[sp].ta >= best->t);
+        node = stack[sp].node;
+        ta = stack[sp].ta;
+        tb = stack[sp].tb;
+    }
+}

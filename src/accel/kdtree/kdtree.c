@@ -1,0 +1,113 @@
+/* The kd-tree with sparse boxes (Havran & Bittner 2007) as a treetrace
+ * structure: the dispatch table and its glue. */
+#include "accel/kdtree/kdtree.h"
+
+#include "accel/kdtree/kd_trace_cpu.h"
+
+static tt_status kd_build(tt_accel *a)
+{
+    tt_kdtree *t = NULL;
+    tt_status st = tt_kdtree_build(a->ctx, a->scene, &a->options.kdtree, &t);
+    a->impl = t;
+    return st;
+}
+
+static void kd_destroy(tt_accel *a)
+{
+    tt_kdtree_destroy(a->ctx, a->impl);
+    a->impl = NULL;
+}
+
+static const tt_kdtree *tree(const tt_accel *a) { return a->impl; }
+
+static uint32_t hint_of(const tt_trace_args *args)
+{
+    return args ? args->start_hint : TT_INVALID_ID;
+}
+
+/* The last caster travels in args->end_hint on input (the renderer hands
+ * back what the previous shadow ray returned there); only with the option. */
+static uint32_t caster_of(const tt_accel *a, const tt_trace_args *args)
+{
+    return (args && a->options.kdtree.shadow_caster_hint) ? args->end_hint : TT_INVALID_ID;
+}
+
+static void kd_intersect(const tt_accel *a, const tt_wray *r, tt_hit *hit, tt_trace_args *args)
+{
+    uint32_t end;
+    tt_kd_cpu_intersect(&tree(a)->view, a->options.kdtree.traversal, r, hint_of(args), hit, &end);
+    if (args) args->end_hint = end;
+}
+
+static int kd_occluded(const tt_accel *a, const tt_wray *r, tt_trace_args *args)
+{
+    uint32_t end;
+    int o = tt_kd_cpu_occluded(&tree(a)->view, a->options.kdtree.traversal, r, hint_of(args),
+                               caster_of(a, args), &end);
+    if (args) args->end_hint = end;
+    return o;
+}
+
+static void kd_intersect_stats(const tt_accel *a, const tt_wray *r, tt_hit *hit,
+                               tt_trace_args *args, tt_ray_stats *stats)
+{
+    uint32_t end;
+    tt_kd_cpu_intersect_stats(&tree(a)->view, a->options.kdtree.traversal, r, hint_of(args), hit,
+                              &end, stats);
+    if (args) args->end_hint = end;
+}
+
+static int kd_occluded_stats(const tt_accel *a, const tt_wray *r, tt_trace_args *args,
+                             tt_ray_stats *stats)
+{
+    uint32_t end;
+    int o = tt_kd_cpu_occluded_stats(&tree(a)->view, a->options.kdtree.traversal, r, hint_of(args),
+                                     caster_of(a, args), &end, stats);
+    if (args) args->end_hint = end;
+    return o;
+}
+
+static uint32_t kd_locate(const tt_accel *a, const float *p) { return tt_kdtree_locate(tree(a), p); }
+
+static tt_status kd_check(const tt_accel *a) { return tt_kdtree_check(a->ctx, a->scene, tree(a)); }
+
+static void kd_statistics(const tt_accel *a, tt_stat_fn fn, void *user)
+{
+    const tt_kdtree *t = tree(a);
+    size_t tris = a->scene->triangle_count;
+    fn(user, "N_B", (double)t->aug_count);
+    fn(user, "M_KD", (double)tt_kdtree_memory(t));
+    fn(user, "nodes", (double)t->nodes_total);
+    fn(user, "interior", (double)t->interior);
+    fn(user, "leaves", (double)t->leaves);
+    fn(user, "empty_leaves", (double)t->empty_leaves);
+    fn(user, "depth_max", (double)t->depth_max);
+    fn(user, "depth_mean", t->depth_mean);
+    fn(user, "depth_limit", (double)t->max_depth);
+    fn(user, "dmin", (double)t->dmin);
+    fn(user, "references", (double)t->ref_count);
+    fn(user, "refs_per_triangle", tris ? (double)t->ref_count / (double)tris : 0.0);
+    fn(user, "sah_cost", t->sah_cost);
+    fn(user, "triangles", (double)tris);
+}
+
+static size_t kd_memory(const tt_accel *a) { return tt_kdtree_memory(tree(a)); }
+
+const tt_kdtree *tt_kdtree_of(const tt_accel *a)
+{
+    return (a && a->vt == &tt_kdtree_vtable) ? a->impl : NULL;
+}
+
+const tt_accel_vtable tt_kdtree_vtable = {
+    .name = "kdtree",
+    .build = kd_build,
+    .destroy = kd_destroy,
+    .intersect = kd_intersect,
+    .occluded = kd_occluded,
+    .intersect_stats = kd_intersect_stats,
+    .occluded_stats = kd_occluded_stats,
+    .locate = kd_locate,
+    .check = kd_check,
+    .statistics = kd_statistics,
+    .memory = kd_memory,
+};

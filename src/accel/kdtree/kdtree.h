@@ -1,0 +1,49 @@
+/* The built kd-tree as the library holds it: the arrays of kd_layout.h plus
+ * what the build decided (effective parameters) and measured (statistics).
+ * Tests include this header to walk the tree directly (comparing the two
+ * builders node by node, aiming rays at actual split planes). */
+#ifndef TT_ACCEL_KDTREE_KDTREE_H
+#define TT_ACCEL_KDTREE_KDTREE_H
+
+#include <stddef.h>
+
+#include "accel/accel.h"
+#include "accel/kdtree/kd_layout.h"
+
+typedef struct tt_kdtree {
+    tt_kd_node *nodes;
+    uint32_t node_slots; /* entries of nodes[], extension slots included    */
+    uint32_t *refs;      /* triangle ids, leaf by leaf, ascending per leaf  */
+    size_t ref_count;
+    tt_kd_aug *aug;
+    uint32_t aug_count;
+    tt_kd_view view;
+
+    /* The parameters the tree was built with (validated, auto resolved). */
+    int dmin;      /* < 0: only the root is augmented                     */
+    int max_depth; /* the depth limit the builder enforced                */
+    double cost_traversal, cost_intersect, empty_factor;
+
+    /* Shape, counted once after the build. */
+    uint32_t nodes_total, interior, leaves, empty_leaves;
+    int depth_max;
+    double depth_mean; /* over leaves                                      */
+    double sah_cost;   /* C_T sum SA(interior) + C_I sum n SA(leaf), / SA(root) */
+} tt_kdtree;
+
+/* Builds the tree for accel->scene with accel->options.kdtree (validated
+ * here; errors name the option). */
+tt_status tt_kdtree_build(tt_context *ctx, const tt_scene *scene, const tt_kdtree_options *opt,
+                          tt_kdtree **out);
+void tt_kdtree_destroy(tt_context *ctx, tt_kdtree *tree);
+size_t tt_kdtree_memory(const tt_kdtree *tree);
+/* The invariants of tt_accel_check; reports the first broken one. */
+tt_status tt_kdtree_check(tt_context *ctx, const tt_scene *scene, const tt_kdtree *tree);
+/* The deepest augmented node (its aug[] index) whose box contains p, or
+ * TT_INVALID_ID when p is outside the scene box. */
+uint32_t tt_kdtree_locate(const tt_kdtree *tree, const float *p);
+
+/* The tree behind a kd-tree accel (NULL for other structures). */
+const tt_kdtree *tt_kdtree_of(const tt_accel *accel);
+
+#endif
