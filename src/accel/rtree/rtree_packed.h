@@ -100,13 +100,6 @@ TT_HD const float *tt_rt_group(const tt_rtree_packed *t, uint32_t n, uint32_t *p
     return t->box + (size_t)tt_rt_div(t, i) * 6 * t->M;
 }
 
-/* min/max as plain comparisons: fminf/fmaxf are library calls on the CPU
- * unless the compiler may assume no NaNs, and no NaN arises here (the
- * inverse direction is finite and nonzero, box bounds are finite or the
- * +inf empty mark, so no 0 * inf and no inf - inf). */
-TT_HD float tt_rt_min(float a, float b) { return a < b ? a : b; }
-TT_HD float tt_rt_max(float a, float b) { return a > b ? a : b; }
-
 /* The group holding the M child slots of slot n on level l > 0 (they fill
  * it exactly: n_e(n) is the first slot of group gfirst[l-1] + n - Delta_L(l)). */
 TT_HD const float *tt_rt_child_group(const tt_rtree_packed *t, uint32_t n, uint32_t l)
@@ -114,43 +107,48 @@ TT_HD const float *tt_rt_child_group(const tt_rtree_packed *t, uint32_t n, uint3
     return t->box + (size_t)(t->gfirst[l - 1] + (n - t->delta[l])) * 6 * t->M;
 }
 
-/* Slab test of the box at position pos of group g: tt_ray_box
- * (geometry/aabb.h), same operations in the same order, so the same
- * conservative widening of the far distance holds; the returned entry
- * distance is lowered a little (see below). */
+/* Slab test of the box at position pos of group g: exactly tt_ray_box
+ * (geometry/aabb.h) — the exact scheme with the true inverse direction,
+ * sign-selected near/far planes and NaN-ignoring accumulation, so a ray
+ * lying in a face plane is kept — with the group's SoA bounds. */
 TT_HD float tt_rt_box_test(const tt_wray *r, const float *g, uint32_t M, uint32_t pos,
                            float tmax)
 {
-    const float tx0 = (TT_LDG(g + pos) - r->org[0]) * r->inv[0];
-    const float ty0 = (TT_LDG(g + M + pos) - r->org[1]) * r->inv[1];
-    const float tz0 = (TT_LDG(g + 2 * M + pos) - r->org[2]) * r->inv[2];
-    const float tx1 = (TT_LDG(g + 3 * M + pos) - r->org[0]) * r->inv[0];
-    const float ty1 = (TT_LDG(g + 4 * M + pos) - r->org[1]) * r->inv[1];
-    const float tz1 = (TT_LDG(g + 5 * M + pos) - r->org[2]) * r->inv[2];
-    const float tnear = tt_rt_max(tt_rt_max(tt_rt_min(tx0, tx1), tt_rt_min(ty0, ty1)),
-                                  tt_rt_max(tt_rt_min(tz0, tz1), r->tmin));
-    float tfar = tt_rt_min(tt_rt_min(tt_rt_max(tx0, tx1), tt_rt_max(ty0, ty1)),
-                           tt_rt_max(tz0, tz1));
+    float tnear = r->tmin, tfar = TT_INF;
+    for (uint32_t k = 0; k < 3; k++) {
+        const uint32_t lo = k * M + pos, hi = (k + 3) * M + pos;
+        const int neg = r->rcp[k] < 0.0f;
+        const float tn = (TT_LDG(g + (neg ? hi : lo)) - r->org[k]) * r->rcp[k];
+        const float tf = (TT_LDG(g + (neg ? lo : hi)) - r->org[k]) * r->rcp[k];
+        tnear = tt_slab_near(tn, tnear);
+        tfar = tt_slab_far(tf, tfar);
+    }
     tfar *= 1.00000024f; /* 1 + 2 gamma(3), as in tt_ray_box */
     /* The entry distance is compared with hit distances from the triangle
      * test, a different computation: a triangle inside the box can come out
      * a few ulps nearer than the box's rounded entry (e.g. a flat box and a
      * ray whose tmax ends just behind the plane). Culling with the entry
-     * lowered by a relative 2^-16 never drops such a box. */
+     * lowered by a relative 2^-16 never drops such a box. A parallel ray
+     * outside a slab has tnear = +inf and entry NaN: a miss. */
     const float entry = tnear - fabsf(tnear) * (1.0f / 65536.0f);
     return (tnear <= tfar && entry < tmax) ? entry : TT_INF;
 }
 
 /* The slab test of four consecutive slots of a group (stride M between the
  * six bound arrays). Identical per slot to tt_rt_box_test: on x86 CPUs as
- * SSE instructions (minps/maxps compute exactly a < b ? a : b and
- * a > b ? a : b, like tt_rt_min/tt_rt_max; no FMA contraction under ISO C),
- * elsewhere (and on the GPU) as a plain loop. The ray is broadcast to SIMD
- * lanes once per ray (tt_rt_lanes_init), not once per node. */
+ * SSE instructions, elsewhere (and on the GPU) as a plain loop. The ray is
+ * broadcast to SIMD lanes once per ray (tt_rt_lanes_init), with the bound
+ * array (0 = lo, 3 = hi) that holds each axis's near plane. maxps(a, b) and
+ * minps(a, b) return b when either operand is NaN, so with the candidate
+ * first and the accumulator second they are exactly tt_slab_near and
+ * tt_slab_far (no FMA contraction under ISO C). */
 #if defined(__SSE2__) && !defined(__CUDACC__)
 #include <emmintrin.h>
 typedef struct tt_rt_lanes {
     __m128 ox, oy, oz, ix, iy, iz, tmin;
+    /* the bound arrays (k = lo, k + 3 = hi of axis k) holding each axis's
+     * near and far planes, chosen by the direction's sign */
+    uint32_t nx, ny, nz, fx, fy, fz;
 } tt_rt_lanes;
 
 TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r)
@@ -158,26 +156,30 @@ TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r)
     s->ox = _mm_set1_ps(r->org[0]);
     s->oy = _mm_set1_ps(r->org[1]);
     s->oz = _mm_set1_ps(r->org[2]);
-    s->ix = _mm_set1_ps(r->inv[0]);
-    s->iy = _mm_set1_ps(r->inv[1]);
-    s->iz = _mm_set1_ps(r->inv[2]);
+    s->ix = _mm_set1_ps(r->rcp[0]);
+    s->iy = _mm_set1_ps(r->rcp[1]);
+    s->iz = _mm_set1_ps(r->rcp[2]);
     s->tmin = _mm_set1_ps(r->tmin);
+    s->nx = r->rcp[0] < 0.0f ? 3 : 0;
+    s->ny = r->rcp[1] < 0.0f ? 4 : 1;
+    s->nz = r->rcp[2] < 0.0f ? 5 : 2;
+    s->fx = 3 - s->nx;
+    s->fy = 5 - s->ny;
+    s->fz = 7 - s->nz;
 }
 
 TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, uint32_t M,
                            float tmax, float *TT_RESTRICT out)
 {
-    const __m128 tx0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g), s->ox), s->ix);
-    const __m128 ty0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + M), s->oy), s->iy);
-    const __m128 tz0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 2 * M), s->oz), s->iz);
-    const __m128 tx1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 3 * M), s->ox), s->ix);
-    const __m128 ty1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 4 * M), s->oy), s->iy);
-    const __m128 tz1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 5 * M), s->oz), s->iz);
-    const __m128 tn = _mm_max_ps(_mm_max_ps(_mm_min_ps(tx0, tx1), _mm_min_ps(ty0, ty1)),
-                                 _mm_max_ps(_mm_min_ps(tz0, tz1), s->tmin));
-    const __m128 tf = _mm_mul_ps(_mm_min_ps(_mm_min_ps(_mm_max_ps(tx0, tx1), _mm_max_ps(ty0, ty1)),
-                                            _mm_max_ps(tz0, tz1)),
-                                 _mm_set1_ps(1.00000024f));
+    const __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->nx * M), s->ox), s->ix);
+    const __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->ny * M), s->oy), s->iy);
+    const __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->nz * M), s->oz), s->iz);
+    const __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->fx * M), s->ox), s->ix);
+    const __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->fy * M), s->oy), s->iy);
+    const __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->fz * M), s->oz), s->iz);
+    const __m128 tn = _mm_max_ps(tnz, _mm_max_ps(tny, _mm_max_ps(tnx, s->tmin)));
+    const __m128 tf0 = _mm_min_ps(tfz, _mm_min_ps(tfy, _mm_min_ps(tfx, _mm_set1_ps(TT_INF))));
+    const __m128 tf = _mm_mul_ps(tf0, _mm_set1_ps(1.00000024f));
     const __m128 abs_tn = _mm_and_ps(tn, _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)));
     const __m128 entry = _mm_sub_ps(tn, _mm_mul_ps(abs_tn, _mm_set1_ps(1.0f / 65536.0f)));
     const __m128 hit = _mm_and_ps(_mm_cmple_ps(tn, tf), _mm_cmplt_ps(entry, _mm_set1_ps(tmax)));
