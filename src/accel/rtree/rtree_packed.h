@@ -107,23 +107,39 @@ TT_HD const float *tt_rt_child_group(const tt_rtree_packed *t, uint32_t n, uint3
     return t->box + (size_t)(t->gfirst[l - 1] + (n - t->delta[l])) * 6 * t->M;
 }
 
-/* Slab test of the box at position pos of group g: exactly tt_ray_box
- * (geometry/aabb.h) — the exact scheme with the true inverse direction,
- * sign-selected near/far planes and NaN-ignoring accumulation, so a ray
- * lying in a face plane is kept — with the group's SoA bounds. */
-TT_HD float tt_rt_box_test(const tt_wray *r, const float *g, uint32_t M, uint32_t pos,
-                           float tmax)
+/* Where each axis's near and far planes are for one ray: the offsets (in
+ * floats from a group's start) of the bound arrays k (lo) and k + 3 (hi),
+ * chosen by the direction's sign — computed once per ray, so that a box
+ * test is straight-line code. */
+typedef struct tt_rt_planes {
+    uint32_t n[3], f[3];
+} tt_rt_planes;
+
+TT_HD void tt_rt_planes_init(tt_rt_planes *p, const tt_wray *r, uint32_t M)
 {
-    float tnear = r->tmin, tfar = TT_INF;
     for (uint32_t k = 0; k < 3; k++) {
-        const uint32_t lo = k * M + pos, hi = (k + 3) * M + pos;
         const int neg = r->rcp[k] < 0.0f;
-        const float tn = (TT_LDG(g + (neg ? hi : lo)) - r->org[k]) * r->rcp[k];
-        const float tf = (TT_LDG(g + (neg ? lo : hi)) - r->org[k]) * r->rcp[k];
-        tnear = tt_slab_near(tn, tnear);
-        tfar = tt_slab_far(tf, tfar);
+        p->n[k] = (neg ? k + 3 : k) * M;
+        p->f[k] = (neg ? k : k + 3) * M;
     }
-    tfar *= 1.00000024f; /* 1 + 2 gamma(3), as in tt_ray_box */
+}
+
+/* Slab test of the box whose lo x bound is at b (a group's start plus the
+ * slot's position): exactly tt_ray_box (geometry/aabb.h) — the exact scheme
+ * with the true inverse direction, sign-selected near/far planes and
+ * NaN-ignoring accumulation, so a ray lying in a face plane is kept — on the
+ * group's SoA bounds. */
+TT_HD float tt_rt_box_test_at(const tt_wray *r, const tt_rt_planes *p, const float *b, float tmax)
+{
+    const float tn0 = (TT_LDG(b + p->n[0]) - r->org[0]) * r->rcp[0];
+    const float tn1 = (TT_LDG(b + p->n[1]) - r->org[1]) * r->rcp[1];
+    const float tn2 = (TT_LDG(b + p->n[2]) - r->org[2]) * r->rcp[2];
+    const float tf0 = (TT_LDG(b + p->f[0]) - r->org[0]) * r->rcp[0];
+    const float tf1 = (TT_LDG(b + p->f[1]) - r->org[1]) * r->rcp[1];
+    const float tf2 = (TT_LDG(b + p->f[2]) - r->org[2]) * r->rcp[2];
+    const float tnear = tt_slab_near(tn2, tt_slab_near(tn1, tt_slab_near(tn0, r->tmin)));
+    const float tfar = tt_slab_far(tf2, tt_slab_far(tf1, tt_slab_far(tf0, TT_INF))) *
+                       1.00000024f; /* 1 + 2 gamma(3), as in tt_ray_box */
     /* The entry distance is compared with hit distances from the triangle
      * test, a different computation: a triangle inside the box can come out
      * a few ulps nearer than the box's rounded entry (e.g. a flat box and a
@@ -134,11 +150,20 @@ TT_HD float tt_rt_box_test(const tt_wray *r, const float *g, uint32_t M, uint32_
     return (tnear <= tfar && entry < tmax) ? entry : TT_INF;
 }
 
+/* The same for the box at position pos of group g. */
+TT_HD float tt_rt_box_test(const tt_wray *r, const float *g, uint32_t M, uint32_t pos,
+                           float tmax)
+{
+    tt_rt_planes p;
+    tt_rt_planes_init(&p, r, M);
+    return tt_rt_box_test_at(r, &p, g + pos, tmax);
+}
+
 /* The slab test of four consecutive slots of a group (stride M between the
  * six bound arrays). Identical per slot to tt_rt_box_test: on x86 CPUs as
  * SSE instructions, elsewhere (and on the GPU) as a plain loop. The ray is
- * broadcast to SIMD lanes once per ray (tt_rt_lanes_init), with the bound
- * array (0 = lo, 3 = hi) that holds each axis's near plane. maxps(a, b) and
+ * broadcast to SIMD lanes once per ray (tt_rt_lanes_init), with its near and
+ * far plane offsets (tt_rt_planes). maxps(a, b) and
  * minps(a, b) return b when either operand is NaN, so with the candidate
  * first and the accumulator second they are exactly tt_slab_near and
  * tt_slab_far (no FMA contraction under ISO C). */
@@ -146,12 +171,10 @@ TT_HD float tt_rt_box_test(const tt_wray *r, const float *g, uint32_t M, uint32_
 #include <emmintrin.h>
 typedef struct tt_rt_lanes {
     __m128 ox, oy, oz, ix, iy, iz, tmin;
-    /* the bound arrays (k = lo, k + 3 = hi of axis k) holding each axis's
-     * near and far planes, chosen by the direction's sign */
-    uint32_t nx, ny, nz, fx, fy, fz;
+    tt_rt_planes p;
 } tt_rt_lanes;
 
-TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r)
+TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r, uint32_t M)
 {
     s->ox = _mm_set1_ps(r->org[0]);
     s->oy = _mm_set1_ps(r->org[1]);
@@ -160,23 +183,18 @@ TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r)
     s->iy = _mm_set1_ps(r->rcp[1]);
     s->iz = _mm_set1_ps(r->rcp[2]);
     s->tmin = _mm_set1_ps(r->tmin);
-    s->nx = r->rcp[0] < 0.0f ? 3 : 0;
-    s->ny = r->rcp[1] < 0.0f ? 4 : 1;
-    s->nz = r->rcp[2] < 0.0f ? 5 : 2;
-    s->fx = 3 - s->nx;
-    s->fy = 5 - s->ny;
-    s->fz = 7 - s->nz;
+    tt_rt_planes_init(&s->p, r, M);
 }
 
-TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, uint32_t M,
-                           float tmax, float *TT_RESTRICT out)
+TT_HD uint32_t tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, float tmax,
+                               float *TT_RESTRICT out)
 {
-    const __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->nx * M), s->ox), s->ix);
-    const __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->ny * M), s->oy), s->iy);
-    const __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->nz * M), s->oz), s->iz);
-    const __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->fx * M), s->ox), s->ix);
-    const __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->fy * M), s->oy), s->iy);
-    const __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->fz * M), s->oz), s->iz);
+    const __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->p.n[0]), s->ox), s->ix);
+    const __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->p.n[1]), s->oy), s->iy);
+    const __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->p.n[2]), s->oz), s->iz);
+    const __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->p.f[0]), s->ox), s->ix);
+    const __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->p.f[1]), s->oy), s->iy);
+    const __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->p.f[2]), s->oz), s->iz);
     const __m128 tn = _mm_max_ps(tnz, _mm_max_ps(tny, _mm_max_ps(tnx, s->tmin)));
     const __m128 tf0 = _mm_min_ps(tfz, _mm_min_ps(tfy, _mm_min_ps(tfx, _mm_set1_ps(TT_INF))));
     const __m128 tf = _mm_mul_ps(tf0, _mm_set1_ps(1.00000024f));
@@ -184,32 +202,70 @@ TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, uin
     const __m128 entry = _mm_sub_ps(tn, _mm_mul_ps(abs_tn, _mm_set1_ps(1.0f / 65536.0f)));
     const __m128 hit = _mm_and_ps(_mm_cmple_ps(tn, tf), _mm_cmplt_ps(entry, _mm_set1_ps(tmax)));
     _mm_storeu_ps(out, _mm_or_ps(_mm_and_ps(hit, entry), _mm_andnot_ps(hit, _mm_set1_ps(TT_INF))));
+    return (uint32_t)_mm_movemask_ps(hit);
 }
 #else
 typedef struct tt_rt_lanes {
     const tt_wray *r;
+    tt_rt_planes p;
 } tt_rt_lanes;
 
-TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r) { s->r = r; }
-
-TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, uint32_t M,
-                           float tmax, float *TT_RESTRICT out)
+TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r, uint32_t M)
 {
-    for (uint32_t i = 0; i < 4; i++) out[i] = tt_rt_box_test(s->r, g, M, i, tmax);
+    s->r = r;
+    tt_rt_planes_init(&s->p, r, M);
+}
+
+TT_HD uint32_t tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, float tmax,
+                               float *TT_RESTRICT out)
+{
+    uint32_t mask = 0;
+    for (uint32_t i = 0; i < 4; i++) {
+        out[i] = tt_rt_box_test_at(s->r, &s->p, g + i, tmax);
+        mask |= (uint32_t)(out[i] < tmax) << i;
+    }
+    return mask;
 }
 #endif
 
 /* The slab test of all M slots of one group at once (a node's children):
- * out[i] is slot i's entry distance or +inf. Four at a time when M is a
- * multiple of 4, one at a time otherwise. */
-TT_HD void tt_rt_group_test(const tt_rt_lanes *s, const tt_wray *r, const float *TT_RESTRICT g,
-                            uint32_t M, float tmax, float *TT_RESTRICT out)
+ * out[i] is slot i's entry distance or +inf; the result has bit i set when
+ * slot i is hit (out[i] < tmax), so traversals visit only the hit children
+ * without a branch per slot. Four at a time when M is a multiple of 4, one
+ * at a time otherwise. */
+TT_HD uint32_t tt_rt_group_test(const tt_rt_lanes *s, const tt_wray *r,
+                                const float *TT_RESTRICT g, uint32_t M, float tmax,
+                                float *TT_RESTRICT out)
 {
+    uint32_t mask = 0;
     if ((M & 3) == 0) {
-        for (uint32_t i = 0; i < M; i += 4) tt_rt_box_test4(s, g + i, M, tmax, out + i);
+        for (uint32_t i = 0; i < M; i += 4) mask |= tt_rt_box_test4(s, g + i, tmax, out + i) << i;
     } else {
-        for (uint32_t i = 0; i < M; i++) out[i] = tt_rt_box_test(r, g, M, i, tmax);
+        for (uint32_t i = 0; i < M; i++) {
+            out[i] = tt_rt_box_test_at(r, &s->p, g + i, tmax);
+            mask |= (uint32_t)(out[i] < tmax) << i;
+        }
     }
+    return mask;
+}
+
+/* Lowest set bit and set-bit count of a nonzero mask (GPU intrinsics under
+ * nvcc, compiler builtins on the CPU). */
+TT_HD uint32_t tt_rt_ctz(uint32_t x)
+{
+#ifdef __CUDACC__
+    return (uint32_t)(__ffs((int)x) - 1);
+#else
+    return (uint32_t)__builtin_ctz(x);
+#endif
+}
+TT_HD uint32_t tt_rt_popcount(uint32_t x)
+{
+#ifdef __CUDACC__
+    return (uint32_t)__popc(x);
+#else
+    return (uint32_t)__builtin_popcount(x);
+#endif
 }
 
 #endif

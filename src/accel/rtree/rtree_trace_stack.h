@@ -20,7 +20,7 @@ TT_HD int TT_VARIANT(tt_rt_stack)(const tt_rtree_packed *TT_RESTRICT t, const tt
     uint8_t stack_l[TT_RT_STACK_SIZE];
     uint32_t sp = 0;
     tt_rt_lanes lanes;
-    tt_rt_lanes_init(&lanes, r);
+    tt_rt_lanes_init(&lanes, r, M);
     (void)stats;
     TT_COUNT(stats, rays, 1);
 
@@ -29,7 +29,7 @@ TT_HD int TT_VARIANT(tt_rt_stack)(const tt_rtree_packed *TT_RESTRICT t, const tt
     if (TT_LDG(g + pos) == TT_INF) goto done; /* empty tree */
     TT_COUNT(stats, boxes, 1);
     {
-        const float tb = tt_rt_box_test(r, g, M, pos, best);
+        const float tb = tt_rt_box_test_at(r, &lanes.p, g + pos, best);
         if (!(tb < best)) goto done;
         stack_node[0] = 0;
         stack_t[0] = tb;
@@ -44,20 +44,21 @@ TT_HD int TT_VARIANT(tt_rt_stack)(const tt_rtree_packed *TT_RESTRICT t, const tt
         if (l > 0) {
             TT_COUNT(stats, interior, 1);
             const uint32_t c0 = tt_rt_first_child(t, n, l);
-            const uint32_t cnt = TT_LDG(t->count + n);
             const float *cg = tt_rt_child_group(t, n, l);
-            TT_COUNT(stats, boxes, cnt);
+            TT_COUNT(stats, boxes, TT_LDG(t->count + n)); /* the node's entries */
             float tbox[TT_RT_MAX_M];
-            tt_rt_group_test(&lanes, r, cg, M, best, tbox);
-            for (uint32_t i = cnt; i-- > 0;) {
-                const float tb = tbox[i];
-                if (tb < best) {
-                    stack_node[sp] = c0 + i;
-                    stack_t[sp] = tb;
-                    stack_l[sp] = (uint8_t)(l - 1);
-                    sp++;
-                }
+            /* the hit children, pushed so that the first in memory order
+             * is on top (empty slots never hit) */
+            uint32_t hitm = tt_rt_group_test(&lanes, r, cg, M, best, tbox);
+            const uint32_t nh = tt_rt_popcount(hitm);
+            for (uint32_t j = sp + nh; hitm; hitm &= hitm - 1) {
+                const uint32_t i = tt_rt_ctz(hitm);
+                j--;
+                stack_node[j] = c0 + i;
+                stack_t[j] = tbox[i];
+                stack_l[j] = (uint8_t)(l - 1);
             }
+            sp += nh;
         } else {
             TT_COUNT(stats, leaves, 1);
             const uint32_t j = n - t->delta[0];

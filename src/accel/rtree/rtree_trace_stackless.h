@@ -21,13 +21,15 @@ TT_HD int TT_VARIANT(tt_rt_stackless)(const tt_rtree_packed *TT_RESTRICT t, cons
      * position chi(n) there, kept along so that no step divides n */
     uint32_t n = 0, l = L, pos = M - 1; /* the root: group 0, last position */
     const float *g = t->box;
+    tt_rt_planes planes; /* the ray's near/far bound arrays, once per ray */
+    tt_rt_planes_init(&planes, r, M);
     (void)stats;
     TT_COUNT(stats, rays, 1);
     for (;;) {
         const int empty = TT_LDG(g + pos) == TT_INF;
         if (!empty) {
             TT_COUNT(stats, boxes, 1);
-            if (tt_rt_box_test(r, g, M, pos, best) < best) {
+            if (tt_rt_box_test_at(r, &planes, g + pos, best) < best) {
                 TT_COUNT(stats, nodes, 1);
                 if (l > 0) { /* n = n_e(n), one level down */
                     TT_COUNT(stats, interior, 1);
