@@ -78,10 +78,26 @@ TT_HD uint32_t tt_rt_mod(const tt_rtree_packed *t, uint32_t x)
     return t->m_shift ? x & (t->M - 1) : x % t->M;
 }
 
-/* The paper's index arithmetic (slot n on level l). */
+/* Division and remainder by M where the caller may know M at compile time
+ * (the traversals are specialised for the default M = 4): shifts then. */
+TT_HD uint32_t tt_rt_div_m(const tt_rtree_packed *t, uint32_t M, uint32_t x)
+{
+    return M == 4 ? x >> 2 : tt_rt_div(t, x);
+}
+TT_HD uint32_t tt_rt_mod_m(const tt_rtree_packed *t, uint32_t M, uint32_t x)
+{
+    return M == 4 ? x & 3 : tt_rt_mod(t, x);
+}
+
+/* The paper's index arithmetic (slot n on level l); the _m forms take M
+ * (== t->M) from the caller, which may know it at compile time. */
+TT_HD uint32_t tt_rt_first_child_m(const tt_rtree_packed *t, uint32_t M, uint32_t n, uint32_t l)
+{
+    return (n - t->delta[l]) * M + t->delta[l - 1];
+}
 TT_HD uint32_t tt_rt_first_child(const tt_rtree_packed *t, uint32_t n, uint32_t l)
 {
-    return (n - t->delta[l]) * t->M + t->delta[l - 1];
+    return tt_rt_first_child_m(t, t->M, n, l);
 }
 TT_HD uint32_t tt_rt_parent(const tt_rtree_packed *t, uint32_t n, uint32_t l)
 {
@@ -102,9 +118,14 @@ TT_HD const float *tt_rt_group(const tt_rtree_packed *t, uint32_t n, uint32_t *p
 
 /* The group holding the M child slots of slot n on level l > 0 (they fill
  * it exactly: n_e(n) is the first slot of group gfirst[l-1] + n - Delta_L(l)). */
+TT_HD const float *tt_rt_child_group_m(const tt_rtree_packed *t, uint32_t M, uint32_t n,
+                                       uint32_t l)
+{
+    return t->box + (size_t)(t->gfirst[l - 1] + (n - t->delta[l])) * 6 * M;
+}
 TT_HD const float *tt_rt_child_group(const tt_rtree_packed *t, uint32_t n, uint32_t l)
 {
-    return t->box + (size_t)(t->gfirst[l - 1] + (n - t->delta[l])) * 6 * t->M;
+    return tt_rt_child_group_m(t, t->M, n, l);
 }
 
 /* Where each axis's near and far planes are for one ray: the offsets (in
@@ -249,8 +270,9 @@ TT_HD uint32_t tt_rt_group_test(const tt_rt_lanes *s, const tt_wray *r,
     return mask;
 }
 
-/* Lowest set bit and set-bit count of a nonzero mask (GPU intrinsics under
- * nvcc, compiler builtins on the CPU). */
+/* Lowest and highest set bit of a nonzero mask (GPU intrinsics under nvcc,
+ * compiler builtins — single instructions — on the CPU; a population count
+ * would be a libgcc call without -mpopcnt). */
 TT_HD uint32_t tt_rt_ctz(uint32_t x)
 {
 #ifdef __CUDACC__
@@ -259,12 +281,12 @@ TT_HD uint32_t tt_rt_ctz(uint32_t x)
     return (uint32_t)__builtin_ctz(x);
 #endif
 }
-TT_HD uint32_t tt_rt_popcount(uint32_t x)
+TT_HD uint32_t tt_rt_msb(uint32_t x)
 {
 #ifdef __CUDACC__
-    return (uint32_t)__popc(x);
+    return (uint32_t)(31 - __clz((int)x));
 #else
-    return (uint32_t)__builtin_popcount(x);
+    return (uint32_t)(31 - __builtin_clz(x));
 #endif
 }
 

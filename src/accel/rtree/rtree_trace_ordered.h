@@ -13,10 +13,10 @@
 #include "accel/rtree/rtree_packed.h"
 #include "geometry/triangle.h"
 
-TT_HD int TT_VARIANT(tt_rt_ordered)(const tt_rtree_packed *TT_RESTRICT t, const tt_wray *r,
-                                     int any, tt_hit *hit, tt_ray_stats *stats)
+TT_HD_INLINE int TT_VARIANT(tt_rt_ordered_m)(const tt_rtree_packed *TT_RESTRICT t, const uint32_t Mc,
+        const tt_wray *r, int any, tt_hit *hit, tt_ray_stats *stats)
 {
-    const uint32_t M = t->M, L = t->L;
+    const uint32_t M = Mc, L = t->L; /* M == t->M, a constant when specialised */
     float best = r->tmax, bu = 0.0f, bv = 0.0f;
     uint32_t found = TT_INVALID_ID;
     uint32_t stack_node[TT_RT_STACK_SIZE];
@@ -37,8 +37,8 @@ TT_HD int TT_VARIANT(tt_rt_ordered)(const tt_rtree_packed *TT_RESTRICT t, const 
         TT_COUNT(stats, nodes, 1);
         if (l > 0) {
             TT_COUNT(stats, interior, 1);
-            const uint32_t c0 = tt_rt_first_child(t, n, l);
-            const float *cg = tt_rt_child_group(t, n, l);
+            const uint32_t c0 = tt_rt_first_child_m(t, M, n, l);
+            const float *cg = tt_rt_child_group_m(t, M, n, l);
             uint32_t *sn = stack_node + l * M;
             float *st = stack_t + l * M;
             uint32_t top = 0;
@@ -101,4 +101,13 @@ done:
         hit->prim = found == TT_INVALID_ID ? TT_INVALID_ID : TT_LDG(t->prim + found);
     }
     return found != TT_INVALID_ID;
+}
+
+/* The traversal, specialised for the default M = 4 (constant index
+ * arithmetic and group tests) and generic for every other M. */
+TT_HD int TT_VARIANT(tt_rt_ordered)(const tt_rtree_packed *TT_RESTRICT t, const tt_wray *r, int any,
+                                tt_hit *hit, tt_ray_stats *stats)
+{
+    if (t->M == 4) return TT_VARIANT(tt_rt_ordered_m)(t, 4, r, any, hit, stats);
+    return TT_VARIANT(tt_rt_ordered_m)(t, t->M, r, any, hit, stats);
 }

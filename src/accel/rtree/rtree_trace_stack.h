@@ -9,10 +9,10 @@
 #include "accel/rtree/rtree_packed.h"
 #include "geometry/triangle.h"
 
-TT_HD int TT_VARIANT(tt_rt_stack)(const tt_rtree_packed *TT_RESTRICT t, const tt_wray *r, int any,
-                                   tt_hit *hit, tt_ray_stats *stats)
+TT_HD_INLINE int TT_VARIANT(tt_rt_stack_m)(const tt_rtree_packed *TT_RESTRICT t, const uint32_t Mc,
+        const tt_wray *r, int any, tt_hit *hit, tt_ray_stats *stats)
 {
-    const uint32_t M = t->M, L = t->L;
+    const uint32_t M = Mc, L = t->L; /* M == t->M, a constant when specialised */
     float best = r->tmax, bu = 0.0f, bv = 0.0f;
     uint32_t found = TT_INVALID_ID;
     uint32_t stack_node[TT_RT_STACK_SIZE];
@@ -43,22 +43,20 @@ TT_HD int TT_VARIANT(tt_rt_stack)(const tt_rtree_packed *TT_RESTRICT t, const tt
         TT_COUNT(stats, nodes, 1);
         if (l > 0) {
             TT_COUNT(stats, interior, 1);
-            const uint32_t c0 = tt_rt_first_child(t, n, l);
-            const float *cg = tt_rt_child_group(t, n, l);
+            const uint32_t c0 = tt_rt_first_child_m(t, M, n, l);
+            const float *cg = tt_rt_child_group_m(t, M, n, l);
             TT_COUNT(stats, boxes, TT_LDG(t->count + n)); /* the node's entries */
             float tbox[TT_RT_MAX_M];
-            /* the hit children, pushed so that the first in memory order
-             * is on top (empty slots never hit) */
-            uint32_t hitm = tt_rt_group_test(&lanes, r, cg, M, best, tbox);
-            const uint32_t nh = tt_rt_popcount(hitm);
-            for (uint32_t j = sp + nh; hitm; hitm &= hitm - 1) {
-                const uint32_t i = tt_rt_ctz(hitm);
-                j--;
-                stack_node[j] = c0 + i;
-                stack_t[j] = tbox[i];
-                stack_l[j] = (uint8_t)(l - 1);
+            /* the hit children, pushed last in memory order first so that
+             * the first is on top (empty slots never hit) */
+            for (uint32_t hitm = tt_rt_group_test(&lanes, r, cg, M, best, tbox); hitm;) {
+                const uint32_t i = tt_rt_msb(hitm);
+                hitm ^= 1u << i;
+                stack_node[sp] = c0 + i;
+                stack_t[sp] = tbox[i];
+                stack_l[sp] = (uint8_t)(l - 1);
+                sp++;
             }
-            sp += nh;
         } else {
             TT_COUNT(stats, leaves, 1);
             const uint32_t j = n - t->delta[0];
@@ -85,4 +83,13 @@ done:
         hit->prim = found == TT_INVALID_ID ? TT_INVALID_ID : TT_LDG(t->prim + found);
     }
     return found != TT_INVALID_ID;
+}
+
+/* The traversal, specialised for the default M = 4 (constant index
+ * arithmetic and group tests) and generic for every other M. */
+TT_HD int TT_VARIANT(tt_rt_stack)(const tt_rtree_packed *TT_RESTRICT t, const tt_wray *r, int any,
+                                tt_hit *hit, tt_ray_stats *stats)
+{
+    if (t->M == 4) return TT_VARIANT(tt_rt_stack_m)(t, 4, r, any, hit, stats);
+    return TT_VARIANT(tt_rt_stack_m)(t, t->M, r, any, hit, stats);
 }
