@@ -15,14 +15,6 @@
 #define TT_LDG(p) (*(p))
 #endif
 
-/* For a function whose body must be inlined into each caller, e.g. a
- * traversal specialised for a constant parameter. */
-#ifdef __CUDACC__
-#define TT_HD_INLINE static __forceinline__ __host__ __device__
-#else
-#define TT_HD_INLINE static inline __attribute__((always_inline))
-#endif
-
 #define TT_INF (__builtin_inff())
 
 #endif

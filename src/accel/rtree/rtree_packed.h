@@ -40,6 +40,14 @@
 #include "geometry/hd.h"
 #include "geometry/ray.h"
 
+/* For a traversal body that must be inlined into each caller, so that its
+ * specialisation for a constant M folds. */
+#ifdef __CUDACC__
+#define TT_RT_INLINE static __forceinline__ __host__ __device__
+#else
+#define TT_RT_INLINE static inline __attribute__((always_inline))
+#endif
+
 /* Entries per node: the options allow 4 <= M <= 16. */
 #define TT_RT_MAX_M 16
 /* At most 16 levels (L <= 15): with M >= 4 the slot count M^L already
@@ -270,12 +278,12 @@ TT_HD uint32_t tt_rt_group_test(const tt_rt_lanes *s, const tt_wray *r,
     return mask;
 }
 
-/* Lowest and highest set bit of a nonzero mask (GPU intrinsics under nvcc,
- * compiler builtins — single instructions — on the CPU; a population count
+/* Lowest and highest set bit of a nonzero mask (GPU intrinsics in nvcc's
+ * device pass, compiler builtins — single instructions — on the CPU; a population count
  * would be a libgcc call without -mpopcnt). */
 TT_HD uint32_t tt_rt_ctz(uint32_t x)
 {
-#ifdef __CUDACC__
+#ifdef __CUDA_ARCH__
     return (uint32_t)(__ffs((int)x) - 1);
 #else
     return (uint32_t)__builtin_ctz(x);
@@ -283,7 +291,7 @@ TT_HD uint32_t tt_rt_ctz(uint32_t x)
 }
 TT_HD uint32_t tt_rt_msb(uint32_t x)
 {
-#ifdef __CUDACC__
+#ifdef __CUDA_ARCH__
     return (uint32_t)(31 - __clz((int)x));
 #else
     return (uint32_t)(31 - __builtin_clz(x));

@@ -13,7 +13,7 @@
 #include "accel/rtree/rtree_packed.h"
 #include "geometry/triangle.h"
 
-TT_HD_INLINE int TT_VARIANT(tt_rt_ordered_m)(const tt_rtree_packed *TT_RESTRICT t, const uint32_t Mc,
+TT_RT_INLINE int TT_VARIANT(tt_rt_ordered_m)(const tt_rtree_packed *TT_RESTRICT t, const uint32_t Mc,
         const tt_wray *r, int any, tt_hit *hit, tt_ray_stats *stats)
 {
     const uint32_t M = Mc, L = t->L; /* M == t->M, a constant when specialised */
