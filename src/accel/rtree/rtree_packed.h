@@ -215,8 +215,8 @@ TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r, uint32_t M)
     tt_rt_planes_init(&s->p, r, M);
 }
 
-TT_HD uint32_t tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, float tmax,
-                               float *TT_RESTRICT out)
+TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, float tmax,
+                           float *TT_RESTRICT out)
 {
     const __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->p.n[0]), s->ox), s->ix);
     const __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->p.n[1]), s->oy), s->iy);
@@ -231,7 +231,6 @@ TT_HD uint32_t tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g,
     const __m128 entry = _mm_sub_ps(tn, _mm_mul_ps(abs_tn, _mm_set1_ps(1.0f / 65536.0f)));
     const __m128 hit = _mm_and_ps(_mm_cmple_ps(tn, tf), _mm_cmplt_ps(entry, _mm_set1_ps(tmax)));
     _mm_storeu_ps(out, _mm_or_ps(_mm_and_ps(hit, entry), _mm_andnot_ps(hit, _mm_set1_ps(TT_INF))));
-    return (uint32_t)_mm_movemask_ps(hit);
 }
 #else
 typedef struct tt_rt_lanes {
@@ -245,56 +244,34 @@ TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r, uint32_t M)
     tt_rt_planes_init(&s->p, r, M);
 }
 
-TT_HD uint32_t tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, float tmax,
-                               float *TT_RESTRICT out)
+TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, float tmax,
+                           float *TT_RESTRICT out)
 {
-    uint32_t mask = 0;
-    for (uint32_t i = 0; i < 4; i++) {
-        out[i] = tt_rt_box_test_at(s->r, &s->p, g + i, tmax);
-        mask |= (uint32_t)(out[i] < tmax) << i;
-    }
-    return mask;
+    for (uint32_t i = 0; i < 4; i++) out[i] = tt_rt_box_test_at(s->r, &s->p, g + i, tmax);
 }
 #endif
 
 /* The slab test of all M slots of one group at once (a node's children):
- * out[i] is slot i's entry distance or +inf; the result has bit i set when
- * slot i is hit (out[i] < tmax), so traversals visit only the hit children
- * without a branch per slot. Four at a time when M is a multiple of 4, one
- * at a time otherwise. */
-TT_HD uint32_t tt_rt_group_test(const tt_rt_lanes *s, const tt_wray *r,
-                                const float *TT_RESTRICT g, uint32_t M, float tmax,
-                                float *TT_RESTRICT out)
+ * out[i] is slot i's entry distance or +inf. Four at a time when M is a
+ * multiple of 4, one at a time otherwise. */
+TT_HD void tt_rt_group_test(const tt_rt_lanes *s, const tt_wray *r, const float *TT_RESTRICT g,
+                            uint32_t M, float tmax, float *TT_RESTRICT out)
 {
-    uint32_t mask = 0;
     if ((M & 3) == 0) {
-        for (uint32_t i = 0; i < M; i += 4) mask |= tt_rt_box_test4(s, g + i, tmax, out + i) << i;
+        for (uint32_t i = 0; i < M; i += 4) tt_rt_box_test4(s, g + i, tmax, out + i);
     } else {
-        for (uint32_t i = 0; i < M; i++) {
-            out[i] = tt_rt_box_test_at(r, &s->p, g + i, tmax);
-            mask |= (uint32_t)(out[i] < tmax) << i;
-        }
+        for (uint32_t i = 0; i < M; i++) out[i] = tt_rt_box_test_at(r, &s->p, g + i, tmax);
     }
-    return mask;
 }
 
-/* Lowest and highest set bit of a nonzero mask (GPU intrinsics in nvcc's
- * device pass, compiler builtins — single instructions — on the CPU; a population count
- * would be a libgcc call without -mpopcnt). */
+/* Lowest set bit of a nonzero mask (a GPU intrinsic in nvcc's device pass,
+ * a compiler builtin — one instruction — on the CPU). */
 TT_HD uint32_t tt_rt_ctz(uint32_t x)
 {
 #ifdef __CUDA_ARCH__
     return (uint32_t)(__ffs((int)x) - 1);
 #else
     return (uint32_t)__builtin_ctz(x);
-#endif
-}
-TT_HD uint32_t tt_rt_msb(uint32_t x)
-{
-#ifdef __CUDA_ARCH__
-    return (uint32_t)(31 - __clz((int)x));
-#else
-    return (uint32_t)(31 - __builtin_clz(x));
 #endif
 }
 

@@ -44,11 +44,14 @@ TT_RT_INLINE int TT_VARIANT(tt_rt_ordered_m)(const tt_rtree_packed *TT_RESTRICT 
             uint32_t top = 0;
             TT_COUNT(stats, boxes, TT_LDG(t->count + n)); /* the node's entries */
             float tbox[TT_RT_MAX_M];
-            /* only the hit children (empty slots never hit) */
-            uint32_t hitm = tt_rt_group_test(&lanes, r, cg, M, best, tbox);
-            for (; hitm; hitm &= hitm - 1) {
-                const uint32_t i = tt_rt_ctz(hitm);
+            /* a fixed loop over the M slots (unrolled for M = 4; empty
+             * slots never hit): iterating the set bits of a hit mask
+             * instead executes fewer instructions but mispredicts its
+             * exit, and measured about 25% slower */
+            tt_rt_group_test(&lanes, r, cg, M, best, tbox);
+            for (uint32_t i = 0; i < M; i++) {
                 const float tb = tbox[i];
+                if (!(tb < best)) continue;
                 /* insertion sort: farthest at the bottom */
                 uint32_t j = top++;
                 while (j > 0 && st[j - 1] < tb) {

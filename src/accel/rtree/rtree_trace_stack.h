@@ -48,10 +48,13 @@ TT_RT_INLINE int TT_VARIANT(tt_rt_stack_m)(const tt_rtree_packed *TT_RESTRICT t,
             TT_COUNT(stats, boxes, TT_LDG(t->count + n)); /* the node's entries */
             float tbox[TT_RT_MAX_M];
             /* the hit children, pushed last in memory order first so that
-             * the first is on top (empty slots never hit) */
-            for (uint32_t hitm = tt_rt_group_test(&lanes, r, cg, M, best, tbox); hitm;) {
-                const uint32_t i = tt_rt_msb(hitm);
-                hitm ^= 1u << i;
+             * the first is on top (empty slots never hit); a fixed loop
+             * over the M slots, unrolled for M = 4: iterating the set bits
+             * of a hit mask mispredicts its exit and measured about 25%
+             * slower despite fewer instructions */
+            tt_rt_group_test(&lanes, r, cg, M, best, tbox);
+            for (uint32_t i = M; i-- > 0;) {
+                if (!(tbox[i] < best)) continue;
                 stack_node[sp] = c0 + i;
                 stack_t[sp] = tbox[i];
                 stack_l[sp] = (uint8_t)(l - 1);
