@@ -98,7 +98,7 @@ TT_HD float tt_slab_far(float t, float acc) { return t < acc ? t : acc; }
 
 /* Conservative slab test on the ray's [tmin, tmax). Returns the entry
  * distance, or +inf if the box is missed. The far distance is widened by a
- * few ulps (Ize 2013), and the entry lowered by a relative 2^-16 before it is
+ * few ulps (Ize 2013) away from t = 0, and the entry lowered by a relative 2^-16 before it is
  * compared with tmax: the triangle test computes t differently, and a
  * triangle lying in a flat box's face can come out a few ulps nearer than the
  * box's rounded entry. A parallel ray outside a slab makes tnear +inf, whose
@@ -113,7 +113,11 @@ TT_HD float tt_ray_box(const tt_wray *r, const float *lo, const float *hi, float
         tnear = tt_slab_near(tn, tnear);
         tfar = tt_slab_far(tf, tfar);
     }
-    tfar *= 1.00000024f; /* 1 + 2 gamma(3) */
+    /* widened away from the origin by a relative 2^-22 (1 + 2 gamma(3)
+     * rounded to float): for tfar >= 0 exactly tfar * 1.00000024f, and a
+     * negative tfar (a box behind the origin, found with a negative tmin)
+     * is widened too instead of shrunk */
+    tfar += fabsf(tfar) * (1.0f / 4194304.0f);
     const float entry = tnear - fabsf(tnear) * (1.0f / 65536.0f);
     return (tnear <= tfar && entry < tmax) ? entry : TT_INF;
 }

@@ -82,8 +82,90 @@ void tt_ply_header_free(tt_context *ctx, ply_header *h)
 {
     tt_free(ctx, h->elements);
     tt_free(ctx, h->properties);
+    tt_free(ctx, h->names);
     h->elements = NULL;
     h->properties = NULL;
+    h->names = NULL;
+}
+
+/* ------------------------------------------------------------ name index */
+
+/* Duplicate element names, and duplicate property names within an element,
+ * are found through a hash set rather than by scanning the names read so
+ * far: a scan makes a header of n names cost n^2 comparisons, and a few
+ * megabytes of "property uchar pN" lines took minutes (a time bomb). A slot
+ * holds 2 i for element i, 2 j + 1 for property j, or NAME_EMPTY; a
+ * property's key includes its element. */
+#define NAME_EMPTY SIZE_MAX
+#define NO_OWNER SIZE_MAX
+
+static uint64_t name_hash(const char *s, size_t len, size_t owner)
+{
+    uint64_t x = 14695981039346656037ull ^ ((uint64_t)owner * 0x9E3779B97F4A7C15ull);
+    for (size_t i = 0; i < len; i++) x = (x ^ (unsigned char)s[i]) * 1099511628211ull;
+    return x ^ (x >> 29);
+}
+
+static void slot_key(const ply_header *h, size_t v, const char **s, size_t *len, size_t *owner)
+{
+    if (v & 1) {
+        const ply_property *p = &h->properties[v >> 1];
+        *s = p->name, *len = p->name_len, *owner = p->element;
+    } else {
+        const ply_element *e = &h->elements[v >> 1];
+        *s = e->name, *len = e->name_len, *owner = NO_OWNER;
+    }
+}
+
+/* The slot holding the key, or the empty slot where it would go. */
+static size_t name_slot(const ply_header *h, const char *s, size_t len, size_t owner)
+{
+    size_t mask = h->name_cap - 1;
+    for (size_t i = (size_t)name_hash(s, len, owner) & mask;; i = (i + 1) & mask) {
+        size_t v = h->names[i];
+        if (v == NAME_EMPTY) return i;
+        const char *ks;
+        size_t kl, ko;
+        slot_key(h, v, &ks, &kl, &ko);
+        if (ko == owner && kl == len && memcmp(ks, s, len) == 0) return i;
+    }
+}
+
+/* The slot value of an existing element (owner NO_OWNER) or property of
+ * element `owner` with this name, or NAME_EMPTY. */
+static size_t name_find(const ply_header *h, const char *s, size_t len, size_t owner)
+{
+    if (h->name_cap == 0) return NAME_EMPTY;
+    return h->names[name_slot(h, s, len, owner)];
+}
+
+/* Adds slot value v (its name not yet present), growing the table to keep
+ * it at most half full. */
+static tt_status name_add(tt_context *ctx, const char *name, size_t line, ply_header *h, size_t v)
+{
+    if (2 * (h->name_count + 1) > h->name_cap) {
+        size_t cap = h->name_cap ? 2 * h->name_cap : 64;
+        size_t *t = tt_alloc_array(ctx, cap, sizeof *t);
+        if (!t) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "%s:%zu: out of memory", name, line);
+        size_t *old = h->names, old_cap = h->name_cap;
+        for (size_t i = 0; i < cap; i++) t[i] = NAME_EMPTY;
+        h->names = t;
+        h->name_cap = cap;
+        for (size_t i = 0; i < old_cap; i++) {
+            if (old[i] == NAME_EMPTY) continue;
+            const char *ks;
+            size_t kl, ko;
+            slot_key(h, old[i], &ks, &kl, &ko);
+            t[name_slot(h, ks, kl, ko)] = old[i];
+        }
+        tt_free(ctx, old);
+    }
+    const char *ks;
+    size_t kl, ko;
+    slot_key(h, v, &ks, &kl, &ko);
+    h->names[name_slot(h, ks, kl, ko)] = v;
+    h->name_count++;
+    return TT_OK;
 }
 
 /* The fewest bytes one element can take in the body. Binary: every scalar
@@ -124,7 +206,7 @@ static tt_status add_element(tt_context *ctx, const char *name, ply_header *h, t
     e->first_property = h->property_count;
     e->property_count = 0;
     e->line = line;
-    return TT_OK;
+    return name_add(ctx, name, line, h, 2 * (h->element_count - 1));
 }
 
 static tt_status add_property(tt_context *ctx, const char *name, ply_header *h,
@@ -137,9 +219,11 @@ static tt_status add_property(tt_context *ctx, const char *name, ply_header *h,
         h->properties = p;
         h->property_cap = cap;
     }
-    h->properties[h->property_count++] = *prop;
+    ply_property *p = &h->properties[h->property_count++];
+    *p = *prop;
+    p->element = h->element_count - 1;
     h->elements[h->element_count - 1].property_count++;
-    return TT_OK;
+    return name_add(ctx, name, line, h, 2 * (h->property_count - 1) + 1);
 }
 
 static tt_status parse_lines(tt_context *ctx, const char *name, const char *data, size_t size,
@@ -200,11 +284,11 @@ static tt_status parse_lines(tt_context *ctx, const char *name, const char *data
                 return tt_error(ctx, TT_ERR_PARSE, "%s:%zu: element count %s is not a non-negative integer%s",
                                 name, line, tt_quote_token(q, sizeof q, t[2].s, t[2].len),
                                 r == TT_NUM_RANGE ? " (too large)" : "");
-            for (size_t i = 0; i < h->element_count; i++)
-                if (h->elements[i].name_len == t[1].len && !memcmp(h->elements[i].name, t[1].s, t[1].len))
-                    return tt_error(ctx, TT_ERR_PARSE, "%s:%zu: a second element %s (first on line %zu)",
-                                    name, line, tt_quote_token(q, sizeof q, t[1].s, t[1].len),
-                                    h->elements[i].line);
+            size_t first = name_find(h, t[1].s, t[1].len, NO_OWNER);
+            if (first != NAME_EMPTY)
+                return tt_error(ctx, TT_ERR_PARSE, "%s:%zu: a second element %s (first on line %zu)",
+                                name, line, tt_quote_token(q, sizeof q, t[1].s, t[1].len),
+                                h->elements[first >> 1].line);
             tt_status st = add_element(ctx, name, h, t[1], (uint64_t)count, line);
             if (st) return st;
             continue;
@@ -236,13 +320,10 @@ static tt_status parse_lines(tt_context *ctx, const char *name, const char *data
             prop.name = name_tok.s;
             prop.name_len = name_tok.len;
             const ply_element *e = &h->elements[h->element_count - 1];
-            for (size_t i = 0; i < e->property_count; i++) {
-                const ply_property *o = &h->properties[e->first_property + i];
-                if (o->name_len == prop.name_len && !memcmp(o->name, prop.name, prop.name_len))
-                    return tt_error(ctx, TT_ERR_PARSE, "%s:%zu: a second property %s in element %.*s",
-                                    name, line, tt_quote_token(q, sizeof q, prop.name, prop.name_len),
-                                    NAME_ARG(e->name, e->name_len));
-            }
+            if (name_find(h, prop.name, prop.name_len, h->element_count - 1) != NAME_EMPTY)
+                return tt_error(ctx, TT_ERR_PARSE, "%s:%zu: a second property %s in element %.*s",
+                                name, line, tt_quote_token(q, sizeof q, prop.name, prop.name_len),
+                                NAME_ARG(e->name, e->name_len));
             tt_status st = add_property(ctx, name, h, &prop, line);
             if (st) return st;
             continue;

@@ -24,6 +24,7 @@ typedef struct ply_property {
     ply_type type;       /* of the value, or of the list's items            */
     ply_type count_type; /* lists only                                      */
     ply_role role;
+    size_t element;      /* index of the element it belongs to             */
 } ply_property;
 
 typedef struct ply_element {
@@ -40,6 +41,10 @@ typedef struct ply_header {
     size_t element_count, element_cap;
     ply_property *properties;
     size_t property_count, property_cap;
+    /* An open-addressing hash set of the element names and, per element,
+     * its property names, for the duplicate checks (ply_header.c). */
+    size_t *names;
+    size_t name_cap, name_count;
     size_t vertex_element, face_element; /* indices into elements           */
     size_t body_offset;                  /* first byte after end_header    */
     size_t body_line;                    /* line number of that byte       */

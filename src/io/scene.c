@@ -3,27 +3,30 @@
 #include <math.h>
 #include <string.h>
 
+/* Finite coordinates and indices in range; `status` is what a violation
+ * is reported as (a parse error in a file, an invalid argument in an API
+ * call). */
+static tt_status validate(tt_context *ctx, const char *name, tt_status status, const float *vertices,
+                          size_t vertex_count, const uint32_t *indices, size_t triangle_count)
+{
+    for (size_t i = 0; i < vertex_count * 3; i++)
+        if (!isfinite(vertices[i]))
+            return tt_error(ctx, status, "%s: vertex %zu has a non-finite coordinate", name, i / 3);
+    for (size_t i = 0; i < triangle_count * 3; i++)
+        if (indices[i] >= vertex_count)
+            return tt_error(ctx, status,
+                            "%s: triangle %zu refers to vertex %u, but there are only %zu vertices",
+                            name, i / 3, indices[i], vertex_count);
+    return TT_OK;
+}
+
 tt_status tt_scene_adopt(tt_context *ctx, const char *name, float *vertices, size_t vertex_count,
                          uint32_t *indices, size_t triangle_count, tt_scene **out)
 {
     *out = NULL;
-    tt_status st = TT_OK;
     tt_scene *s = NULL;
-    for (size_t i = 0; i < vertex_count * 3; i++) {
-        if (!isfinite(vertices[i])) {
-            st = tt_error(ctx, TT_ERR_PARSE, "%s: vertex %zu has a non-finite coordinate", name,
-                          i / 3);
-            goto fail;
-        }
-    }
-    for (size_t i = 0; i < triangle_count * 3; i++) {
-        if (indices[i] >= vertex_count) {
-            st = tt_error(ctx, TT_ERR_PARSE,
-                          "%s: triangle %zu refers to vertex %u, but there are only %zu vertices",
-                          name, i / 3, indices[i], vertex_count);
-            goto fail;
-        }
-    }
+    tt_status st = validate(ctx, name, TT_ERR_PARSE, vertices, vertex_count, indices, triangle_count);
+    if (st) goto fail;
     s = tt_calloc(ctx, 1, sizeof *s);
     if (!s) goto oom;
     s->tri = tt_alloc_array(ctx, triangle_count, 9 * sizeof(float));
@@ -62,6 +65,17 @@ tt_status tt_scene_create(tt_context *ctx, const float *vertices, size_t vertex_
     if (!ctx) return TT_ERR_INVALID_ARGUMENT;
     if ((!vertices && vertex_count) || (!indices && triangle_count))
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "tt_scene_create: NULL array");
+    /* Triangle ids are uint32 with TT_INVALID_ID reserved; the byte sizes
+     * below must not overflow. */
+    if (triangle_count > 0xFFFFFFFEu || vertex_count > SIZE_MAX / (3 * sizeof(float)))
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT,
+                        "tt_scene_create: %zu vertices and %zu triangles are more than it can hold",
+                        vertex_count, triangle_count);
+    /* The caller's arrays are checked before anything is allocated, and a
+     * bad value is an invalid argument (a file's is a parse error). */
+    tt_status st = validate(ctx, "tt_scene_create", TT_ERR_INVALID_ARGUMENT, vertices, vertex_count,
+                            indices, triangle_count);
+    if (st) return st;
     float *v = tt_alloc_array(ctx, vertex_count, 3 * sizeof(float));
     uint32_t *i = tt_alloc_array(ctx, triangle_count, 3 * sizeof(uint32_t));
     if (!v || !i) {
@@ -89,7 +103,13 @@ size_t tt_scene_vertex_count(const tt_scene *scene) { return scene ? scene->vert
 
 void tt_scene_bounds(const tt_scene *scene, float min[3], float max[3])
 {
+    if (!min || !max) return;
     for (int i = 0; i < 3; i++) {
+        if (!scene) { /* as for an empty scene */
+            min[i] = INFINITY;
+            max[i] = -INFINITY;
+            continue;
+        }
         min[i] = scene->bounds.lo[i];
         max[i] = scene->bounds.hi[i];
     }

@@ -3,10 +3,12 @@
  * comma-separated triples; light may be empty or absent (no light). The
  * whole file is validated, not just the line asked for, so a broken file is
  * reported whichever view is wanted. */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "geometry/vec3.h"
 #include "io/file.h"
 #include "io/number.h"
 #include "io/parsers.h"
@@ -79,6 +81,36 @@ static float dist2(const float a[3], const float b[3])
     return d;
 }
 
+/* Whether a squared length can be normalised in float: finite, and normal
+ * so that 1 / sqrtf(len2) is finite too. */
+static int normalisable(float len2) { return isfinite(len2) && len2 >= FLT_MIN; }
+
+/* The camera builds its basis in float (render/camera.c, per the
+ * conventions): forward = normalize(look - eye), right = normalize(cross(
+ * forward, up)). Both must be normalisable there, or every primary ray comes
+ * out zero or NaN; finite inputs are not enough (a difference of 1e38 and
+ * -1e38 overflows, a squared length of 1e-30 underflows). So the same float
+ * steps are replayed here and a view that fails them is refused. */
+static tt_status check_basis(tt_context *ctx, const char *file, size_t line, const tt_camera *cam)
+{
+    tt_vec3 d = tt_v3_sub(tt_v3_load(cam->look), tt_v3_load(cam->eye));
+    float d2 = tt_v3_dot(d, d);
+    if (!normalisable(d2))
+        return tt_error(ctx, TT_ERR_PARSE,
+                        "%s:%zu: look - eye (%g, %g, %g) is too %s for a float view direction", file,
+                        line, d.x, d.y, d.z, d2 > 1.0f ? "long" : "short");
+    tt_vec3 r = tt_v3_cross(tt_v3_normalize(d), tt_v3_load(cam->up));
+    float r2 = tt_v3_dot(r, r);
+    if (!isfinite(r2))
+        return tt_error(ctx, TT_ERR_PARSE, "%s:%zu: the up vector is too long for float arithmetic",
+                        file, line);
+    if (!normalisable(r2)) /* up parallel to the view leaves no image plane */
+        return tt_error(ctx, TT_ERR_PARSE,
+                        "%s:%zu: the up vector is parallel to the view direction (or too short)",
+                        file, line);
+    return TT_OK;
+}
+
 /* One view line into *cam, checking that it describes a usable camera. */
 static tt_status parse_view(tt_context *ctx, const char *file, size_t line, const field *f,
                             size_t n, tt_camera *cam)
@@ -110,30 +142,27 @@ static tt_status parse_view(tt_context *ctx, const char *file, size_t line, cons
         return tt_error(ctx, TT_ERR_PARSE, "%s:%zu: the up vector is zero", file, line);
     if (dist2(cam->eye, cam->look) == 0.0f)
         return tt_error(ctx, TT_ERR_PARSE, "%s:%zu: eye and look are the same point", file, line);
-    /* up parallel to the view direction leaves no image plane */
-    float d[3] = {cam->look[0] - cam->eye[0], cam->look[1] - cam->eye[1], cam->look[2] - cam->eye[2]};
-    float c[3] = {d[1] * cam->up[2] - d[2] * cam->up[1], d[2] * cam->up[0] - d[0] * cam->up[2],
-                  d[0] * cam->up[1] - d[1] * cam->up[0]};
-    if (dist2(c, zero) == 0.0f || !isfinite(dist2(c, zero)))
-        return tt_error(ctx, TT_ERR_PARSE, "%s:%zu: the up vector is parallel to the view direction",
-                        file, line);
-    return TT_OK;
+    return check_basis(ctx, file, line, cam);
 }
 
 /* Appends "scene:view" to the list of available names (for the error when
- * the wanted one is missing), truncating with "..." when it gets long. */
-static void append_name(char *list, size_t cap, const field *f)
+ * the wanted one is missing), ending it with ", ..." instead once the next
+ * name would not fit. A name is only added while room for that ellipsis
+ * stays behind it, so the ellipsis always fits too. */
+#define ELLIPSIS ", ..."
+static void append_name(char *list, size_t cap, int *truncated, const field *f)
 {
+    if (*truncated) return;
     size_t n = strlen(list);
-    if (n + 4 >= cap) return;
     char item[160];
     snprintf(item, sizeof item, "%s%.*s:%.*s", n ? ", " : "", (int)(f[0].len > 64 ? 64 : f[0].len),
              f[0].s, (int)(f[1].len > 64 ? 64 : f[1].len), f[1].s);
-    if (n + strlen(item) + 4 >= cap) {
-        if (strcmp(list + n - (n >= 3 ? 3 : n), "...") != 0) strcpy(list + n, ", ...");
+    if (n + strlen(item) + sizeof ELLIPSIS > cap) {
+        memcpy(list + n, ELLIPSIS, sizeof ELLIPSIS);
+        *truncated = 1;
         return;
     }
-    strcpy(list + n, item);
+    memcpy(list + n, item, strlen(item) + 1);
 }
 
 tt_status tt_view_find_memory(tt_context *ctx, const char *views_name, const char *data,
@@ -154,6 +183,7 @@ tt_status tt_view_find_memory(tt_context *ctx, const char *views_name, const cha
     size_t line = 0, found_line = 0;
     tt_camera found;
     char names[600] = "";
+    int names_truncated = 0;
     memset(&found, 0, sizeof found);
     int header_seen = 0;
     while (p < end) {
@@ -191,7 +221,7 @@ tt_status tt_view_find_memory(tt_context *ctx, const char *views_name, const cha
         tt_camera cam;
         tt_status st = parse_view(ctx, views_name, line, f, n, &cam);
         if (st) return st;
-        append_name(names, sizeof names, f);
+        append_name(names, sizeof names, &names_truncated, f);
         /* "scene:view" compared whole, so a ':' inside either part is harmless */
         if (f[0].len + 1 + f[1].len == name_len && !memcmp(f[0].s, name, f[0].len) &&
             name[f[0].len] == ':' && !memcmp(f[1].s, name + f[0].len + 1, f[1].len)) {

@@ -33,6 +33,16 @@ static void test_plain(void)
     CHECK(box_t(in, down, lo, hi, INFINITY) == 0.0f); /* origin inside: entry tmin */
     const float side[3] = {2, 0.5f, -2}, diag[3] = {-1, 0, 1};
     CHECK(entry_is(box_t(side, diag, lo, hi, INFINITY), 2.0f));
+    /* behind the origin, found with a negative tmin: the far distance is
+     * widened away from 0, so a flat box at t = -1.5 is kept */
+    {
+        const float flo[3] = {0, 0, 0.5f}, fhi[3] = {1, 1, 0.5f}, o2[3] = {0.5f, 0.5f, 2};
+        tt_wray r;
+        tt_wray_init(&r, o2, up, -10.0f, INFINITY);
+        CHECK(entry_is(tt_ray_box(&r, flo, fhi, INFINITY), -1.5f));
+        tt_wray_init(&r, o2, up, -1.0f, INFINITY);
+        CHECK(tt_ray_box(&r, flo, fhi, INFINITY) == INFINITY); /* tmin after it */
+    }
     const float miss[3] = {5, 0.5f, -2}; /* passes x = 1 at t = 4, z = 2 */
     CHECK(box_t(miss, diag, lo, hi, INFINITY) == INFINITY);
 }

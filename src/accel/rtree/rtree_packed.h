@@ -167,8 +167,8 @@ TT_HD float tt_rt_box_test_at(const tt_wray *r, const tt_rt_planes *p, const flo
     const float tf1 = (TT_LDG(b + p->f[1]) - r->org[1]) * r->rcp[1];
     const float tf2 = (TT_LDG(b + p->f[2]) - r->org[2]) * r->rcp[2];
     const float tnear = tt_slab_near(tn2, tt_slab_near(tn1, tt_slab_near(tn0, r->tmin)));
-    const float tfar = tt_slab_far(tf2, tt_slab_far(tf1, tt_slab_far(tf0, TT_INF))) *
-                       1.00000024f; /* 1 + 2 gamma(3), as in tt_ray_box */
+    float tfar = tt_slab_far(tf2, tt_slab_far(tf1, tt_slab_far(tf0, TT_INF)));
+    tfar += fabsf(tfar) * (1.0f / 4194304.0f); /* widened away from 0, as in tt_ray_box */
     /* The entry distance is compared with hit distances from the triangle
      * test, a different computation: a triangle inside the box can come out
      * a few ulps nearer than the box's rounded entry (e.g. a flat box and a
@@ -191,19 +191,21 @@ TT_HD float tt_rt_box_test(const tt_wray *r, const float *g, uint32_t M, uint32_
 /* The slab test of four consecutive slots of a group (stride M between the
  * six bound arrays). Identical per slot to tt_rt_box_test: on x86 CPUs as
  * SSE instructions, elsewhere (and on the GPU) as a plain loop. The ray is
- * broadcast to SIMD lanes once per ray (tt_rt_lanes_init), with its near and
- * far plane offsets (tt_rt_planes). maxps(a, b) and
- * minps(a, b) return b when either operand is NaN, so with the candidate
- * first and the accumulator second they are exactly tt_slab_near and
- * tt_slab_far (no FMA contraction under ISO C). */
-#if defined(__SSE2__) && !defined(__CUDACC__)
+ * broadcast to SIMD lanes once per ray (tt_rt_lanes_init); its near and far
+ * plane offsets (tt_rt_planes) come along. maxps(a, b) and minps(a, b) return b
+ * when either operand is NaN, so with the candidate first and the
+ * accumulator second they are exactly tt_slab_near and tt_slab_far (no FMA
+ * contraction under ISO C). Defining TT_NO_SIMD forces the plain loop on
+ * the CPU too: the single-source test (tests/cuda/test_single_source.c)
+ * compiles the traversals that way, so the CPU runs exactly the code the
+ * GPU runs. */
+#if defined(__SSE2__) && !defined(__CUDACC__) && !defined(TT_NO_SIMD)
 #include <emmintrin.h>
 typedef struct tt_rt_lanes {
     __m128 ox, oy, oz, ix, iy, iz, tmin;
-    tt_rt_planes p;
 } tt_rt_lanes;
 
-TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r, uint32_t M)
+TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r)
 {
     s->ox = _mm_set1_ps(r->org[0]);
     s->oy = _mm_set1_ps(r->org[1]);
@@ -212,22 +214,23 @@ TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r, uint32_t M)
     s->iy = _mm_set1_ps(r->rcp[1]);
     s->iz = _mm_set1_ps(r->rcp[2]);
     s->tmin = _mm_set1_ps(r->tmin);
-    tt_rt_planes_init(&s->p, r, M);
 }
 
-TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, float tmax,
-                           float *TT_RESTRICT out)
+TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const tt_rt_planes *p,
+                           const float *TT_RESTRICT g, float tmax, float *TT_RESTRICT out)
 {
-    const __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->p.n[0]), s->ox), s->ix);
-    const __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->p.n[1]), s->oy), s->iy);
-    const __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->p.n[2]), s->oz), s->iz);
-    const __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->p.f[0]), s->ox), s->ix);
-    const __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->p.f[1]), s->oy), s->iy);
-    const __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + s->p.f[2]), s->oz), s->iz);
+    const __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->n[0]), s->ox), s->ix);
+    const __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->n[1]), s->oy), s->iy);
+    const __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->n[2]), s->oz), s->iz);
+    const __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->f[0]), s->ox), s->ix);
+    const __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->f[1]), s->oy), s->iy);
+    const __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->f[2]), s->oz), s->iz);
     const __m128 tn = _mm_max_ps(tnz, _mm_max_ps(tny, _mm_max_ps(tnx, s->tmin)));
     const __m128 tf0 = _mm_min_ps(tfz, _mm_min_ps(tfy, _mm_min_ps(tfx, _mm_set1_ps(TT_INF))));
-    const __m128 tf = _mm_mul_ps(tf0, _mm_set1_ps(1.00000024f));
-    const __m128 abs_tn = _mm_and_ps(tn, _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)));
+    const __m128 absmask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    const __m128 tf =
+        _mm_add_ps(tf0, _mm_mul_ps(_mm_and_ps(tf0, absmask), _mm_set1_ps(1.0f / 4194304.0f)));
+    const __m128 abs_tn = _mm_and_ps(tn, absmask);
     const __m128 entry = _mm_sub_ps(tn, _mm_mul_ps(abs_tn, _mm_set1_ps(1.0f / 65536.0f)));
     const __m128 hit = _mm_and_ps(_mm_cmple_ps(tn, tf), _mm_cmplt_ps(entry, _mm_set1_ps(tmax)));
     _mm_storeu_ps(out, _mm_or_ps(_mm_and_ps(hit, entry), _mm_andnot_ps(hit, _mm_set1_ps(TT_INF))));
@@ -235,32 +238,28 @@ TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, flo
 #else
 typedef struct tt_rt_lanes {
     const tt_wray *r;
-    tt_rt_planes p;
 } tt_rt_lanes;
 
-TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r, uint32_t M)
-{
-    s->r = r;
-    tt_rt_planes_init(&s->p, r, M);
-}
+TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r) { s->r = r; }
 
-TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, float tmax,
-                           float *TT_RESTRICT out)
+TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const tt_rt_planes *p,
+                           const float *TT_RESTRICT g, float tmax, float *TT_RESTRICT out)
 {
-    for (uint32_t i = 0; i < 4; i++) out[i] = tt_rt_box_test_at(s->r, &s->p, g + i, tmax);
+    for (uint32_t i = 0; i < 4; i++) out[i] = tt_rt_box_test_at(s->r, p, g + i, tmax);
 }
 #endif
 
 /* The slab test of all M slots of one group at once (a node's children):
  * out[i] is slot i's entry distance or +inf. Four at a time when M is a
  * multiple of 4, one at a time otherwise. */
-TT_HD void tt_rt_group_test(const tt_rt_lanes *s, const tt_wray *r, const float *TT_RESTRICT g,
-                            uint32_t M, float tmax, float *TT_RESTRICT out)
+TT_HD void tt_rt_group_test(const tt_rt_lanes *s, const tt_wray *r, const tt_rt_planes *p,
+                            const float *TT_RESTRICT g, uint32_t M, float tmax,
+                            float *TT_RESTRICT out)
 {
     if ((M & 3) == 0) {
-        for (uint32_t i = 0; i < M; i += 4) tt_rt_box_test4(s, g + i, tmax, out + i);
+        for (uint32_t i = 0; i < M; i += 4) tt_rt_box_test4(s, p, g + i, tmax, out + i);
     } else {
-        for (uint32_t i = 0; i < M; i++) out[i] = tt_rt_box_test_at(r, &s->p, g + i, tmax);
+        for (uint32_t i = 0; i < M; i++) out[i] = tt_rt_box_test_at(r, p, g + i, tmax);
     }
 }
 

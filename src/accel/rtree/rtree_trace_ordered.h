@@ -24,7 +24,9 @@ TT_RT_INLINE int TT_VARIANT(tt_rt_ordered_m)(const tt_rtree_packed *TT_RESTRICT 
     uint32_t sp[TT_RT_MAX_LEVELS + 1];
     uint32_t levels = 0; /* bit l set: stack l is not empty */
     tt_rt_lanes lanes;
-    tt_rt_lanes_init(&lanes, r, M);
+    tt_rt_lanes_init(&lanes, r);
+    tt_rt_planes planes; /* the ray's near/far bound arrays, once per ray */
+    tt_rt_planes_init(&planes, r, M);
     (void)stats;
     TT_COUNT(stats, rays, 1);
 
@@ -32,7 +34,7 @@ TT_RT_INLINE int TT_VARIANT(tt_rt_ordered_m)(const tt_rtree_packed *TT_RESTRICT 
     const float *g = tt_rt_group(t, 0, &pos);
     if (TT_LDG(g + pos) == TT_INF) goto done; /* empty tree */
     TT_COUNT(stats, boxes, 1);
-    if (!(tt_rt_box_test_at(r, &lanes.p, g + pos, best) < best)) goto done;
+    if (!(tt_rt_box_test_at(r, &planes, g + pos, best) < best)) goto done;
     for (;;) {
         TT_COUNT(stats, nodes, 1);
         if (l > 0) {
@@ -48,7 +50,7 @@ TT_RT_INLINE int TT_VARIANT(tt_rt_ordered_m)(const tt_rtree_packed *TT_RESTRICT 
              * slots never hit): iterating the set bits of a hit mask
              * instead executes fewer instructions but mispredicts its
              * exit, and measured about 25% slower */
-            tt_rt_group_test(&lanes, r, cg, M, best, tbox);
+            tt_rt_group_test(&lanes, r, &planes, cg, M, best, tbox);
             for (uint32_t i = 0; i < M; i++) {
                 const float tb = tbox[i];
                 if (!(tb < best)) continue;

@@ -20,7 +20,9 @@ TT_RT_INLINE int TT_VARIANT(tt_rt_stack_m)(const tt_rtree_packed *TT_RESTRICT t,
     uint8_t stack_l[TT_RT_STACK_SIZE];
     uint32_t sp = 0;
     tt_rt_lanes lanes;
-    tt_rt_lanes_init(&lanes, r, M);
+    tt_rt_lanes_init(&lanes, r);
+    tt_rt_planes planes; /* the ray's near/far bound arrays, once per ray */
+    tt_rt_planes_init(&planes, r, M);
     (void)stats;
     TT_COUNT(stats, rays, 1);
 
@@ -29,7 +31,7 @@ TT_RT_INLINE int TT_VARIANT(tt_rt_stack_m)(const tt_rtree_packed *TT_RESTRICT t,
     if (TT_LDG(g + pos) == TT_INF) goto done; /* empty tree */
     TT_COUNT(stats, boxes, 1);
     {
-        const float tb = tt_rt_box_test_at(r, &lanes.p, g + pos, best);
+        const float tb = tt_rt_box_test_at(r, &planes, g + pos, best);
         if (!(tb < best)) goto done;
         stack_node[0] = 0;
         stack_t[0] = tb;
@@ -52,7 +54,7 @@ TT_RT_INLINE int TT_VARIANT(tt_rt_stack_m)(const tt_rtree_packed *TT_RESTRICT t,
              * over the M slots, unrolled for M = 4: iterating the set bits
              * of a hit mask mispredicts its exit and measured about 25%
              * slower despite fewer instructions */
-            tt_rt_group_test(&lanes, r, cg, M, best, tbox);
+            tt_rt_group_test(&lanes, r, &planes, cg, M, best, tbox);
             for (uint32_t i = M; i-- > 0;) {
                 if (!(tbox[i] < best)) continue;
                 stack_node[sp] = c0 + i;

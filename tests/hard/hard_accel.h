@@ -1,0 +1,344 @@
+/* Every registered structure in every option variant worth telling apart,
+ * and a ray-by-ray comparison against bruteforce whose reference answers are
+ * computed once per ray set (bruteforce on a few thousand triangles is the
+ * slow part, and it is the same for the dozens of variants). The agreement
+ * rule is compare.h's (tt_test_hits_agree); like compare.c, both the fast
+ * and the counting variant of the structure under test are traced. */
+#ifndef TT_HARD_ACCEL_H
+#define TT_HARD_ACCEL_H
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "check.h"
+#include "compare.h"
+#include "hard_scenes.h"
+
+typedef struct hard_variant {
+    tt_build_options opt;
+    char label[160];
+} hard_variant;
+
+#define HARD_MAX_VARIANTS 96
+
+static const char *const hard_rtree_strategy_names[] = {"min-volume", "min-surface", "min-overlap",
+                                                        "rstar", "rstar-surface"};
+static const char *const hard_rtree_traversal_names[] = {"auto", "stackless", "ordered", "stack"};
+static const char *const hard_kd_traversal_names[] = {"htr", "btr", "sltr", "seq"};
+
+static inline void hard_push(hard_variant *v, size_t *n, const tt_build_options *o,
+                             const char *label)
+{
+    if (*n >= HARD_MAX_VARIANTS) {
+        fprintf(stderr, "too many variants\n");
+        exit(1);
+    }
+    v[*n].opt = *o;
+    snprintf(v[*n].label, sizeof v[*n].label, "%s", label);
+    (*n)++;
+}
+
+/* The variants of structure `name`: for the R-tree every insertion strategy
+ * x forced reinsert on/off x every traversal at (m, M) = (2, 4), every
+ * strategy at (4, 16), (3, 8), the quadratic split, close reinsert; for the
+ * kd-tree both builders x every traversal x sparse boxes every 1 or 3 levels
+ * or none, plus the shadow-caster hint; any other structure with its
+ * defaults. */
+static inline size_t hard_variants(const char *name, hard_variant *v)
+{
+    size_t n = 0;
+    char label[160];
+    tt_build_options o;
+    tt_build_options_default(&o);
+    o.accel = name;
+    if (strcmp(name, "rtree") == 0) {
+        for (int s = TT_RTREE_MIN_VOLUME; s <= TT_RTREE_RSTAR_SURFACE; s++)
+            for (int re = 1; re >= 0; re--)
+                for (int t = TT_RTREE_AUTO; t <= TT_RTREE_STACK; t++) {
+                    tt_build_options r = o;
+                    r.rtree.strategy = (tt_rtree_strategy)s;
+                    r.rtree.reinsert = re;
+                    r.rtree.traversal = (tt_rtree_traversal)t;
+                    snprintf(label, sizeof label, "rtree %s m=2 M=4 reinsert=%d traversal=%s",
+                             hard_rtree_strategy_names[s], re, hard_rtree_traversal_names[t]);
+                    hard_push(v, &n, &r, label);
+                }
+        for (int s = TT_RTREE_MIN_VOLUME; s <= TT_RTREE_RSTAR_SURFACE; s++) {
+            tt_build_options r = o;
+            r.rtree.strategy = (tt_rtree_strategy)s;
+            r.rtree.m = 4, r.rtree.M = 16;
+            r.rtree.traversal = (tt_rtree_traversal)(s % 4);
+            snprintf(label, sizeof label, "rtree %s m=4 M=16 reinsert=1 traversal=%s",
+                     hard_rtree_strategy_names[s], hard_rtree_traversal_names[s % 4]);
+            hard_push(v, &n, &r, label);
+        }
+        tt_build_options r = o;
+        r.rtree.m = 3, r.rtree.M = 8;
+        hard_push(v, &n, &r, "rtree rstar-surface m=3 M=8");
+        r = o;
+        r.rtree.split = TT_RTREE_SPLIT_QUADRATIC;
+        hard_push(v, &n, &r, "rtree quadratic split m=2 M=4");
+        r.rtree.m = 4, r.rtree.M = 16;
+        r.rtree.strategy = TT_RTREE_MIN_VOLUME;
+        r.rtree.reinsert = 0;
+        hard_push(v, &n, &r, "rtree quadratic split min-volume m=4 M=16 reinsert=0");
+        r = o;
+        r.rtree.reinsert_far = 0;
+        r.rtree.reinsert_fraction = 0.5f;
+        r.rtree.traversal = TT_RTREE_STACK;
+        hard_push(v, &n, &r, "rtree close reinsert fraction 0.5 traversal=stack");
+    } else if (strcmp(name, "kdtree") == 0) {
+        static const int dmins[3] = {1, 3, -1};
+        for (int b = TT_KD_NLOGN; b <= TT_KD_NLOG2N; b++)
+            for (int t = TT_KD_HTR; t <= TT_KD_SEQ; t++)
+                for (int d = 0; d < 3; d++) {
+                    tt_build_options k = o;
+                    k.kdtree.builder = (tt_kd_builder)b;
+                    k.kdtree.traversal = (tt_kd_traversal)t;
+                    k.kdtree.dmin = dmins[d];
+                    snprintf(label, sizeof label, "kdtree %s traversal=%s dmin=%d",
+                             b == TT_KD_NLOGN ? "nlogn" : "nlog2n", hard_kd_traversal_names[t],
+                             dmins[d]);
+                    hard_push(v, &n, &k, label);
+                }
+        for (int t = TT_KD_BTR; t <= TT_KD_SEQ; t++) { /* htr has no boxes to start from */
+            tt_build_options k = o;
+            k.kdtree.traversal = (tt_kd_traversal)t;
+            k.kdtree.shadow_caster_hint = 1;
+            snprintf(label, sizeof label, "kdtree nlogn traversal=%s shadow-caster-hint",
+                     hard_kd_traversal_names[t]);
+            hard_push(v, &n, &k, label);
+        }
+    } else {
+        hard_push(v, &n, &o, name);
+    }
+    return n;
+}
+
+/* ----------------------------------------------------------- ray sets */
+
+/* Rays with their bruteforce answers: closest hit on [tmin, tmax) and
+ * occlusion on the same interval. */
+typedef struct hard_rays {
+    tt_ray *ray;
+    const char **kind; /* a static string per ray naming its family           */
+    tt_hit *hit;
+    int *occluded;
+    size_t n, cap;
+} hard_rays;
+
+static inline void hard_rays_add(hard_rays *s, const char *kind, const float org[3],
+                                 const float dir[3], float tmin, float tmax)
+{
+    if (s->n == s->cap) {
+        s->cap = s->cap ? 2 * s->cap : 1024;
+        s->ray = hard_xrealloc(s->ray, s->cap * sizeof *s->ray);
+        s->kind = hard_xrealloc(s->kind, s->cap * sizeof *s->kind);
+    }
+    tt_ray *r = &s->ray[s->n];
+    memcpy(r->org, org, sizeof r->org);
+    memcpy(r->dir, dir, sizeof r->dir);
+    r->tmin = tmin;
+    r->tmax = tmax;
+    s->kind[s->n++] = kind;
+}
+
+/* Traces every ray with the reference structure (bruteforce). */
+static inline void hard_rays_reference(hard_rays *s, const tt_accel *ref)
+{
+    s->hit = hard_xrealloc(s->hit, (s->n ? s->n : 1) * sizeof *s->hit);
+    s->occluded = hard_xrealloc(s->occluded, (s->n ? s->n : 1) * sizeof *s->occluded);
+    for (size_t i = 0; i < s->n; i++) {
+        tt_status a = tt_intersect1(ref, &s->ray[i], &s->hit[i]);
+        tt_status b = tt_occluded1(ref, &s->ray[i], &s->occluded[i]);
+        if (a != TT_OK || b != TT_OK) {
+            fprintf(stderr, "the reference refused ray %zu (%s)\n", i, s->kind[i]);
+            exit(1);
+        }
+    }
+}
+
+static inline void hard_rays_free(hard_rays *s)
+{
+    free(s->ray);
+    free(s->kind);
+    free(s->hit);
+    free(s->occluded);
+    memset(s, 0, sizeof *s);
+}
+
+static inline int hard_ray_agrees(const tt_accel *test, const hard_rays *s, size_t i)
+{
+    tt_hit h;
+    int o = -1;
+    return tt_intersect1(test, &s->ray[i], &h) == TT_OK && tt_test_hits_agree(&s->hit[i], &h) &&
+           tt_occluded1(test, &s->ray[i], &o) == TT_OK && o == s->occluded[i];
+}
+
+/* Prints how many rays of each family disagree (fast variant), so that a
+ * report says at a glance which kind of ray a structure gets wrong. */
+static inline void hard_tally_families(const tt_accel *test, const hard_rays *s)
+{
+    const char *seen[64];
+    size_t count[64], nseen = 0;
+    for (size_t i = 0; i < s->n; i++) {
+        if (hard_ray_agrees(test, s, i)) continue;
+        size_t k = 0;
+        while (k < nseen && strcmp(seen[k], s->kind[i]) != 0) k++;
+        if (k == nseen) {
+            if (nseen == 64) continue;
+            seen[nseen] = s->kind[i];
+            count[nseen++] = 0;
+        }
+        count[k]++;
+    }
+    for (size_t k = 0; k < nseen; k++) fprintf(stderr, "%s %zu \"%s\"", k ? "," : "", count[k], seen[k]);
+    fprintf(stderr, "\n");
+}
+
+/* Number of rays on which `test` disagrees with the stored reference, in the
+ * fast or the counting variant, for the closest hit or occlusion; prints the
+ * first few with the scene and variant. */
+static inline size_t hard_compare(const char *scene, const char *label, const tt_accel *test,
+                                  const hard_rays *s)
+{
+    size_t bad = 0;
+    for (size_t i = 0; i < s->n; i++) {
+        const tt_ray *r = &s->ray[i];
+        tt_hit fast, counted;
+        tt_ray_stats st;
+        memset(&st, 0, sizeof st);
+        tt_trace_args args = {TT_INVALID_ID, TT_INVALID_ID, &st};
+        tt_status e1 = tt_intersect1(test, r, &fast);
+        tt_status e2 = tt_intersect1_ex(test, r, &counted, &args);
+        int o_fast = -1, o_counted = -1;
+        tt_status e3 = tt_occluded1(test, r, &o_fast);
+        tt_status e4 = tt_occluded1_ex(test, r, &o_counted, &args);
+        int ok = !e1 && !e2 && !e3 && !e4 && tt_test_hits_agree(&s->hit[i], &fast) &&
+                 tt_test_hits_agree(&s->hit[i], &counted) && o_fast == s->occluded[i] &&
+                 o_counted == s->occluded[i] && st.rays == 2;
+        if (!ok && bad++ < 4)
+            fprintf(stderr,
+                    "%s / %s: ray %zu (%s) org %.9g %.9g %.9g dir %.9g %.9g %.9g t [%.9g, %.9g): "
+                    "bruteforce prim %u t %.9g occluded %d; fast prim %u t %.9g occluded %d; "
+                    "counting prim %u t %.9g occluded %d (rays counted %llu)%s\n",
+                    scene, label, i, s->kind[i], r->org[0], r->org[1], r->org[2], r->dir[0],
+                    r->dir[1], r->dir[2], r->tmin, r->tmax, s->hit[i].prim, s->hit[i].t,
+                    s->occluded[i], fast.prim, fast.t, o_fast, counted.prim, counted.t, o_counted,
+                    (unsigned long long)st.rays, e1 || e2 || e3 || e4 ? " (a call failed)" : "");
+    }
+    if (bad) {
+        fprintf(stderr, "%s / %s: %zu of %zu rays disagree; by family:", scene, label, bad, s->n);
+        hard_tally_families(test, s);
+    }
+    return bad;
+}
+
+/* --------------------------------------------------------- the driver */
+
+/* What one structure's run reports to the parent process. */
+typedef struct hard_tally {
+    int built, passed, failed;
+} hard_tally;
+
+/* Every variant of structure `name`: build, check, targeted rays, random
+ * rays and a framed view against the reference. */
+static inline void hard_one_structure(tt_context *ctx, const char *name, const char *scene_name,
+                                      const tt_scene *scene, const tt_accel *ref,
+                                      const hard_rays *rays, uint32_t random_rays, hard_tally *t)
+{
+    static hard_variant v[HARD_MAX_VARIANTS];
+    tt_camera cam;
+    tt_camera_frame_scene(scene, &cam);
+    size_t nv = hard_variants(name, v);
+    for (size_t i = 0; i < nv; i++) {
+        tt_accel *acc = NULL;
+        tt_status st = tt_accel_build(ctx, scene, &v[i].opt, &acc);
+        CHECK_MSG(st == TT_OK, "%s / %s: build: %s: %s", scene_name, v[i].label, tt_strerror(st),
+                  tt_context_last_error(ctx));
+        if (st != TT_OK) continue;
+        t->built++;
+        st = tt_accel_check(acc);
+        CHECK_MSG(st == TT_OK, "%s / %s: check: %s: %s", scene_name, v[i].label, tt_strerror(st),
+                  tt_context_last_error(ctx));
+        if (rays)
+            CHECK_MSG(hard_compare(scene_name, v[i].label, acc, rays) == 0,
+                      "%s / %s: targeted rays disagree with bruteforce", scene_name, v[i].label);
+        if (random_rays) {
+            size_t bad = tt_test_compare_random(scene, acc, ref, random_rays, 12345u + (uint32_t)i);
+            CHECK_MSG(bad == 0, "%s / %s: %zu random rays disagree", scene_name, v[i].label, bad);
+            bad = tt_test_compare_view(scene, acc, ref, &cam, 12, 10);
+            CHECK_MSG(bad == 0, "%s / %s: %zu pixels of the framed view disagree", scene_name,
+                      v[i].label, bad);
+        }
+        tt_accel_destroy(acc);
+    }
+}
+
+/* Runs hard_one_structure for every registered structure, each in a child
+ * process: a structure that crashes on a hard scene is reported as such
+ * (with the scene), and the others are still tested. The child inherits
+ * the scene and the reference answers and sends its counts back through a
+ * pipe. Returns the number of variants built. HARD_ONLY=name restricts the
+ * run to one structure (a debugging aid). */
+static inline size_t hard_each_structure(tt_context *ctx, const char *scene_name,
+                                         const tt_scene *scene, const hard_rays *rays,
+                                         uint32_t random_rays)
+{
+    tt_build_options bo;
+    tt_build_options_default(&bo);
+    bo.accel = "bruteforce";
+    tt_accel *ref = NULL;
+    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &ref));
+    size_t built = 0;
+    const char *only = getenv("HARD_ONLY");
+    for (const char *const *name = tt_accel_names(); *name; name++) {
+        if (only && *only && strcmp(only, *name) != 0) continue;
+        int fd[2];
+        fflush(stdout);
+        fflush(stderr);
+        if (pipe(fd) != 0) {
+            perror("pipe");
+            exit(1);
+        }
+        pid_t pid = fork();
+        if (pid < 0) {
+            perror("fork");
+            exit(1);
+        }
+        if (pid == 0) {
+            close(fd[0]);
+            hard_tally t = {0, 0, 0};
+            int p0 = tt_test_passed, f0 = tt_test_failed;
+            hard_one_structure(ctx, *name, scene_name, scene, ref, rays, random_rays, &t);
+            t.passed = tt_test_passed - p0;
+            t.failed = tt_test_failed - f0;
+            ssize_t w = write(fd[1], &t, sizeof t);
+            fflush(stdout);
+            fflush(stderr);
+            _exit(w == (ssize_t)sizeof t ? 0 : 1);
+        }
+        close(fd[1]);
+        hard_tally t = {0, 0, 0};
+        ssize_t got = read(fd[0], &t, sizeof t);
+        close(fd[0]);
+        int status = 0;
+        waitpid(pid, &status, 0);
+        if (WIFSIGNALED(status) || got != (ssize_t)sizeof t) {
+            CHECK_MSG(0, "%s: %s crashed (signal %d) after %d variants", scene_name, *name,
+                      WIFSIGNALED(status) ? WTERMSIG(status) : 0, t.built);
+            continue;
+        }
+        tt_test_passed += t.passed;
+        tt_test_failed += t.failed;
+        built += (size_t)t.built;
+    }
+    tt_accel_destroy(ref);
+    return built;
+}
+
+#endif
