@@ -248,7 +248,11 @@ typedef struct tt_camera {
     int has_light;
 } tt_camera;
 
-/* Primary ray of pixel (x, y), y = 0 the top row, per the conventions. */
+/* Primary ray of pixel (x, y), y = 0 the top row, per the conventions.
+ * TT_ERR_INVALID_ARGUMENT for a pixel outside the image, or a camera that
+ * cannot make rays: NaN/Inf in eye, look, up, fov or (with has_light) the
+ * light, eye == look, a zero up vector or one parallel to the view
+ * direction, fov outside (0, 180) degrees. */
 tt_status tt_camera_ray(const tt_camera *camera, uint32_t width, uint32_t height,
                         uint32_t x, uint32_t y, tt_ray *out);
 /* A camera framing the scene's bounding box, light above-left of the eye. */
