@@ -320,11 +320,31 @@ typedef struct hard_tally {
     int built, passed, failed;
 } hard_tally;
 
+/* Whether compare.c's random rays are in general position on this scene:
+ * not if the scene is flat (its random origins then lie on the surface, hits
+ * at t ~ 0), nor if it sits so far from the origin that the float grid is
+ * coarse against its size (random coordinates then often equal vertex
+ * coordinates, and the rays with zero direction components that compare.c
+ * makes lie in box faces' planes, Embree's known slab limitation). Our
+ * structures are compared on them everywhere; Embree only where this holds. */
+static inline int hard_scene_generic(const tt_scene *scene)
+{
+    float lo[3], hi[3];
+    tt_scene_bounds(scene, lo, hi);
+    for (int k = 0; k < 3; k++) {
+        float extent = hi[k] - lo[k];
+        float far = fmaxf(fabsf(lo[k]), fabsf(hi[k]));
+        if (!(extent > 0.0f) || nextafterf(far, INFINITY) - far > extent * 0x1p-16f) return 0;
+    }
+    return 1;
+}
+
 /* Every variant of structure `name`: build, check, targeted rays, random
  * rays and a framed view against the reference. The targeted rays are
- * judged per hard_mode (Embree: exact on generic families only); random
- * rays and the framed view are generic, so every structure, Embree
- * included, must agree on them. */
+ * judged per hard_mode (Embree: exact on generic families only); the
+ * framed view is generic, and so are the random rays on a scene in general
+ * position (hard_scene_generic): there every structure, Embree included,
+ * must agree. */
 static inline void hard_one_structure(tt_context *ctx, const char *name, const char *scene_name,
                                       const tt_scene *scene, const tt_accel *ref,
                                       const hard_rays *rays, uint32_t random_rays, hard_tally *t)
@@ -351,7 +371,7 @@ static inline void hard_one_structure(tt_context *ctx, const char *name, const c
                       mode == HARD_EXACT ? "agreement with bruteforce"
                                          : "external reference: generic families exact, "
                                            "valid answers elsewhere");
-        if (random_rays) {
+        if (random_rays && (mode == HARD_EXACT || hard_scene_generic(scene))) {
             size_t bad = tt_test_compare_random(scene, acc, ref, random_rays, 12345u + (uint32_t)i);
             CHECK_MSG(bad == 0, "%s / %s: %zu random rays disagree", scene_name, v[i].label, bad);
             bad = tt_test_compare_view(scene, acc, ref, &cam, 12, 10);
@@ -412,8 +432,8 @@ static inline size_t hard_each_structure(tt_context *ctx, const char *scene_name
         int status = 0;
         waitpid(pid, &status, 0);
         const char *role = hard_is_external_reference(*name)
-                               ? " (external reference: exact on generic families, random rays "
-                                 "and the view; valid answers on the other targeted rays)"
+                               ? " (external reference: exact on generic rays, valid answers "
+                                 "elsewhere)"
                                : "";
         if (WIFSIGNALED(status) || got != (ssize_t)sizeof t) {
             CHECK_MSG(0, "%s: %s crashed (signal %d) after %d variants%s", scene_name, *name,

@@ -12,8 +12,10 @@
  * edges or vertices, grazing rays, rays starting on a surface (hits at
  * t ~ 0) and exact interval ends it may legitimately decide otherwise. It
  * must agree exactly only on the families in general position, named
- * HARD_GENERIC "..." below (from far away; axis-parallel from random
- * points), and on the random rays and framed views of hard_one_structure;
+ * HARD_GENERIC "..." below (from around the box aimed into it; axis-parallel
+ * from random points; both kept off the vertices' planes), on the framed
+ * views of hard_one_structure and on its random rays where the scene is in
+ * general position (hard_scene_generic);
  * on every other family, including the odd-direction families that used to
  * abort libembree, it must return without crashing and give a valid answer
  * (a miss, or a triangle in range with t in [tmin, tmax)). Rays that break
@@ -69,6 +71,20 @@ static inline void hard_random_point(const hard_geom *g, uint32_t *x, float grow
         if (e == 0.0f) e = g->diag; /* flat scenes: leave the plane too */
         p[k] = g->centre[k] + e * (0.5f + grow) * hard_sym(x);
     }
+}
+
+/* Whether p lies on a plane through a vertex: p[k] equals some vertex's
+ * coordinate k, for any axis k whose bit is set in axes. Linear in the
+ * triangles: only for the few hundred generic rays. */
+static inline int hard_on_vertex_planes(const hard_geom *g, const float p[3], unsigned axes)
+{
+    float t[9];
+    for (size_t i = 0; i < g->nt; i++) {
+        tt_scene_triangle(g->scene, i, t);
+        for (int j = 0; j < 9; j++)
+            if ((axes >> (j % 3) & 1) && t[j] == p[j % 3]) return 1;
+    }
+    return 0;
 }
 
 static inline int hard_is_zero(const float d[3]) { return d[0] == 0.0f && d[1] == 0.0f && d[2] == 0.0f; }
@@ -186,18 +202,30 @@ static inline void hard_rays_targeted(hard_rays *s, const tt_scene *scene, size_
             o[k] = c[k] + fd[k] / fl * 1000.0f * g.diag;
             d[k] = c[k] - o[k];
         }
-        if (!hard_is_zero(d)) hard_rays_add(s, HARD_GENERIC "from far away", o, d, 0.0f, inf);
+        if (!hard_is_zero(d)) hard_rays_add(s, "from far away", o, d, 0.0f, inf);
 
-        /* axis-parallel from random points outside the box: away from edges
-         * and vertices, unlike the axis-parallel families above. Its own
-         * random sequence, so the families above keep their rays. */
+        /* The families in general position (what an external reference is
+         * held to exactly). Their own random sequence, so the families above
+         * keep their rays. Random points are tested against the vertices'
+         * coordinates: on a scene far from the origin (coarse float grid) a
+         * random coordinate often equals one, which puts an axis-parallel
+         * ray in a box face's plane or aims a ray exactly at a vertex. */
+        /* from around the box, aimed at a point in it */
+        hard_random_point(&g, &y, 0.5f, o);
+        hard_random_point(&g, &y, 0.0f, c);
+        for (int k = 0; k < 3; k++) d[k] = c[k] - o[k];
+        if (!hard_is_zero(d) && !hard_on_vertex_planes(&g, c, 0x7))
+            hard_rays_add(s, HARD_GENERIC "from around the box, aimed into it", o, d, 0.0f, inf);
+        /* axis-parallel from random points outside the box: away from
+         * edges and vertices, unlike the axis-parallel families above */
         axis = (int)(hard_next(&y) % 3);
         sign = (hard_next(&y) & 1) ? 1 : -1;
         hard_random_point(&g, &y, 0.0f, o);
         o[axis] = sign > 0 ? g.lo[axis] - 0.25f * g.diag : g.hi[axis] + 0.25f * g.diag;
         d[0] = d[1] = d[2] = 0.0f;
         d[axis] = (float)sign;
-        hard_rays_add(s, HARD_GENERIC "axis-parallel from a random point", o, d, 0.0f, inf);
+        if (!hard_on_vertex_planes(&g, o, 0x7 & ~(1 << axis)))
+            hard_rays_add(s, HARD_GENERIC "axis-parallel from a random point", o, d, 0.0f, inf);
     }
 }
 
