@@ -10,6 +10,7 @@
 #define MAX_SIZE 16384
 
 static const char *const heat_metrics[] = {"nodes", "interior", "leaves", "triangles", "boxes"};
+static const char *const devices[] = {"cpu", "gpu"};
 
 typedef struct render_args {
     const char *scene, *view, *views;
@@ -19,6 +20,7 @@ typedef struct render_args {
     int threads, repeat, stats, no_shadows, json;
     const char *png, *hits, *heatmap;
     int heat_metric, heat_metric_given;
+    int device; /* index into devices[] = tt_device */
     cli_accel_args accel;
 } render_args;
 
@@ -46,6 +48,10 @@ void cmd_render_help(FILE *out)
             "  --stats                  one more pass counting nodes, leaves, boxes and\n"
             "                           triangles per ray (the timed passes never count)\n"
             "  --no-shadows             primary rays only\n"
+            "  --device cpu|gpu         where to trace (default cpu); the GPU (CUDA) traces\n"
+            "                           rtree (auto, stackless, ordered) and kdtree (sltr,\n"
+            "                           htr), reports upload_s and download_s apart and\n"
+            "                           times the kernels with CUDA events\n"
             "\n"
             "output (results go to stdout as `key: value` lines):\n"
             "  --json                   one JSON object instead\n"
@@ -119,6 +125,10 @@ static int parse_one(cli_args *a, render_args *r)
     } else if (cli_is(a, "--repeat")) {
         return (v = cli_value(a, "--repeat")) ? cli_parse_int(a->cmd, "--repeat", v, 1, 100000, &r->repeat)
                                               : CLI_USAGE;
+    } else if (cli_is(a, "--device")) {
+        return (v = cli_value(a, "--device"))
+                   ? cli_parse_choice(a->cmd, "--device", v, devices, 2, &r->device)
+                   : CLI_USAGE;
     } else if (cli_is(a, "--heatmap-metric")) {
         r->heat_metric_given = 1;
         return (v = cli_value(a, "--heatmap-metric"))
@@ -247,6 +257,12 @@ static void emit_results(const render_args *r, const char *scene_path, const tt_
     emit_num(&e, "fov", cam->fov_deg);
     if (cam->has_light) emit_vec3(&e, "light", cam->light);
     else emit_str(&e, "light", "none");
+    emit_str(&e, "device", devices[s->device]);
+    if (s->device == TT_DEVICE_GPU) {
+        emit_str(&e, "device_name", s->device_name);
+        emit_num(&e, "upload_s", s->upload_s);
+        emit_num(&e, "download_s", s->download_s);
+    }
     emit_int(&e, "threads", s->threads);
     emit_u64(&e, "width", s->width);
     emit_u64(&e, "height", s->height);
@@ -309,6 +325,12 @@ int cmd_render(int argc, char **argv)
         fprintf(stderr, "treetrace render: cannot create a context\n");
         return CLI_RUNTIME;
     }
+    /* before loading and building: a missing GPU is known at once */
+    if (tt_device_check(ctx, (tt_device)r.device) != TT_OK) {
+        st = cli_runtime_error("render", ctx);
+        tt_context_destroy(ctx);
+        return st;
+    }
     tt_scene *scene = NULL;
     tt_accel *accel = NULL;
     tt_render_result *res = NULL;
@@ -327,6 +349,7 @@ int cmd_render(int argc, char **argv)
         ro.keep_hits = r.hits != NULL;
         ro.keep_image = r.png != NULL;
         ro.keep_pixel_stats = r.heatmap != NULL;
+        ro.device = (tt_device)r.device;
         if (tt_render(ctx, scene, accel, &cam, &ro, &res) != TT_OK)
             st = cli_runtime_error("render", ctx);
     }

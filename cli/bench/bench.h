@@ -8,7 +8,8 @@
  *   bench_runner.c    loads, builds and renders; fills the results
  *   bench_agree.c     hit buffers against Embree's, per the conventions
  *   bench_csv.c       results.csv
- *   bench_report.c    report.md (with bench_paper.c: the papers' numbers)
+ *   bench_report.c    report.md (with bench_paper.c: the papers' numbers;
+ *                     bench_report_gpu.c: the GPU section with --device gpu)
  *   bench_plot.c      the d_min line plots (PNG, own raster code + font)
  *   bench_progress.c  progress on stderr
  *   bench_machine.c   CPU, cores, compiler, date for the report */
@@ -72,6 +73,7 @@ typedef struct bench_options {
     int all_views; /* 0: the first view of each scene only            */
     int heatmaps;
     double budget_s; /* timed repeats are cut so one run stays near this */
+    tt_device device; /* TT_DEVICE_GPU: the GPU's configurations again on it */
 } bench_options;
 
 /* Parses argv (argv[0] = "bench"). Returns 0 ok, 1 --help was printed (exit
@@ -127,6 +129,7 @@ typedef struct bench_run {
     bench_rays rays;
     unsigned tables; /* BENCH_* bits of the tables this run feeds          */
     int heatmap;     /* write the primary rays' node-count heatmap          */
+    tt_device device; /* where it is traced (CPU unless --device gpu)      */
 } bench_run;
 
 typedef struct bench_matrix {
@@ -135,7 +138,10 @@ typedef struct bench_matrix {
 } bench_matrix;
 
 /* Fills the runs every selected table needs, with the Embree runs they are
- * compared with. Duplicates are merged (their table bits or-ed). */
+ * compared with. Duplicates are merged (their table bits or-ed). With
+ * --device gpu, every run the GPU can trace (bench_gpu_traces) is also made
+ * on the GPU, and the R-trees of Feldmann's Tables 1 and 2 also with the
+ * ordered traversal, which his GPU rows used. */
 int bench_matrix_make(const bench_options *o, const bench_scene_list *scenes, bench_matrix *m);
 void bench_matrix_free(bench_matrix *m);
 /* The build options the matrix uses (defaults but for the arguments). */
@@ -143,6 +149,9 @@ tt_build_options bench_rtree_build(tt_rtree_strategy s, int reinsert, tt_rtree_t
 /* dmin < 0: no sparse boxes. */
 tt_build_options bench_kdtree_build(tt_kd_builder builder, int dmin, tt_kd_traversal t);
 tt_build_options bench_named_build(const char *accel);
+/* Whether the GPU traces this configuration (rtree: auto, stackless,
+ * ordered; kdtree: sltr, htr without the caster hint). */
+int bench_gpu_traces(const tt_build_options *b);
 /* Finds the run equal to r in everything but the tables; NULL if none. */
 const bench_run *bench_matrix_find(const bench_matrix *m, const bench_run *r);
 /* Two build options that give the same structure (fields the accel ignores
@@ -235,6 +244,8 @@ typedef struct bench_paper_value {
 const char *bench_feldmann_scene(const char *ours);
 /* Feldmann Table t (1..5), CPU rows; column per the table. < 0 if absent. */
 double bench_feldmann_value(int table, const char *paper_scene, const char *column);
+/* The GPU rows of Tables 1-3 (GeForce GTX 780), in seconds; < 0 if absent. */
+double bench_feldmann_gpu_value(int table, const char *paper_scene, const char *column);
 extern const char *const bench_feldmann_scenes[4];
 
 typedef struct bench_havran_row {

@@ -17,8 +17,12 @@ static const char *const columns[] = {
     "shadow_triangles_per_ray", "all_nodes_per_ray", "all_interior_per_ray",
     "all_leaves_per_ray", "all_boxes_per_ray", "all_triangles_per_ray",
     "embree_trace_median_s", "time_vs_embree", "agree_embree_pixels", "compared_pixels",
-    "agree_embree_pct", "arbitrated_pixels", "ours_match_bruteforce"};
+    "agree_embree_pct", "arbitrated_pixels", "ours_match_bruteforce", "device",
+    "device_name", "upload_s", "download_s"};
 /* clang-format on */
+/* The last columns: where the run was traced (GPU runs: the copies to and
+ * from the device are timed apart from trace_*). */
+#define DEVICE_COLUMNS 4
 
 static void field(FILE *f, const char *s, int last)
 {
@@ -94,9 +98,11 @@ int bench_write_csv(const char *path, const bench_scene_list *sc, const bench_ma
         field(f, r->ok ? "ok" : (strcmp(r->error, "not in this build") == 0 ? "skipped" : "error"),
               0);
         field(f, r->ok ? "" : r->error, 0);
+        const char *device = run->device == TT_DEVICE_GPU ? "gpu" : "cpu";
         if (!r->ok) {
-            /* the remaining columns stay empty */
-            for (size_t k = 14; k < nc; k++) fputs(k + 1 == nc ? "\n" : ",", f);
+            /* the remaining columns stay empty but the device */
+            for (size_t k = 14; k < nc - DEVICE_COLUMNS; k++) fputc(',', f);
+            fprintf(f, "%s,,,\n", device);
             continue;
         }
         fprintf(f, "%d,%d,", res->threads, r->repeats);
@@ -136,10 +142,16 @@ int bench_write_csv(const char *path, const bench_scene_list *sc, const bench_ma
             u64(f, r->compared_pixels);
             fprintf(f, "%.4f,", 100.0 * (double)r->agree_pixels / (double)r->compared_pixels);
             u64(f, r->arbitrated_pixels);
-            fprintf(f, "%llu\n", (unsigned long long)r->ours_match_bruteforce);
+            u64(f, r->ours_match_bruteforce);
         } else {
-            fputs(",,,,\n", f);
+            fputs(",,,,,", f);
         }
+        field(f, device, 0);
+        field(f, su->device_name, 0);
+        if (run->device == TT_DEVICE_GPU)
+            fprintf(f, "%.6g,%.6g\n", su->upload_s, su->download_s);
+        else
+            fputs(",\n", f);
     }
     int bad = ferror(f);
     if (fclose(f) != 0 || bad) {

@@ -34,10 +34,6 @@ static int run_bench(const bench_options *o, FILE *err)
         strftime(out_buf, sizeof out_buf, "bench/results-%Y-%m-%d", &tm);
         out = out_buf;
     }
-    if (bench_mkdirs(out) != 0) {
-        fprintf(err, "treetrace bench: cannot create the output folder %s\n", out);
-        return 1;
-    }
 
     tt_context_options co;
     tt_context_options_default(&co);
@@ -49,6 +45,17 @@ static int run_bench(const bench_options *o, FILE *err)
     }
     int rc = 1;
     bench_scene_list scenes;
+    /* before any work (even the output folder): a missing GPU is known at once */
+    if (tt_device_check(ctx, o->device) != TT_OK) {
+        fprintf(err, "treetrace bench: %s\n", tt_context_last_error(ctx));
+        tt_context_destroy(ctx);
+        return 1;
+    }
+    if (bench_mkdirs(out) != 0) {
+        fprintf(err, "treetrace bench: cannot create the output folder %s\n", out);
+        tt_context_destroy(ctx);
+        return 1;
+    }
     bench_matrix m = {0};
     bench_results res = {0};
     int sr = bench_scenes_read(ctx, dir, o, &scenes, err);

@@ -36,7 +36,7 @@ int bench_same_build(const tt_build_options *a, const tt_build_options *b)
 static int same_run(const bench_run *a, const bench_run *b)
 {
     return a->scene == b->scene && a->view == b->view && a->size.width == b->size.width &&
-           a->size.height == b->size.height && a->rays == b->rays &&
+           a->size.height == b->size.height && a->rays == b->rays && a->device == b->device &&
            bench_same_build(&a->build, &b->build);
 }
 
@@ -195,6 +195,35 @@ static void havran(ctx *c, const bench_options *o, int default_dmin)
     }
 }
 
+int bench_gpu_traces(const tt_build_options *b)
+{
+    if (strcmp(b->accel, "rtree") == 0) return b->rtree.traversal != TT_RTREE_STACK;
+    if (strcmp(b->accel, "kdtree") == 0)
+        return (b->kdtree.traversal == TT_KD_SLTR || b->kdtree.traversal == TT_KD_HTR) &&
+               !b->kdtree.shadow_caster_hint;
+    return 0;
+}
+
+/* --device gpu: the GPU copies of the runs made so far (their Embree runs
+ * exist already: the CPU's, the reference for both). */
+static int add_gpu_runs(bench_matrix *m)
+{
+    const size_t cpu_runs = m->count;
+    for (size_t i = 0; i < cpu_runs; i++) {
+        bench_run r = m->runs[i]; /* a copy: add() may move the array */
+        if (!bench_gpu_traces(&r.build)) continue;
+        r.device = TT_DEVICE_GPU;
+        r.heatmap = 0; /* the counts are the CPU's: one heatmap is enough */
+        if (add(m, &r)) return -1;
+        if (strcmp(r.build.accel, "rtree") == 0 && (r.tables & (BENCH_F1 | BENCH_F2)) &&
+            r.build.rtree.traversal == TT_RTREE_STACKLESS) {
+            r.build.rtree.traversal = TT_RTREE_ORDERED;
+            if (add(m, &r)) return -1;
+        }
+    }
+    return 0;
+}
+
 int bench_matrix_make(const bench_options *o, const bench_scene_list *scenes, bench_matrix *m)
 {
     memset(m, 0, sizeof *m);
@@ -207,6 +236,7 @@ int bench_matrix_make(const bench_options *o, const bench_scene_list *scenes, be
             havran(&c, o, def.kdtree.dmin);
         }
     }
+    if (!c.fail && o->device == TT_DEVICE_GPU && add_gpu_runs(m)) c.fail = 1;
     if (c.fail) {
         bench_matrix_free(m);
         return -1;

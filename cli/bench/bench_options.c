@@ -60,6 +60,10 @@ void bench_print_help(FILE *f)
           "  --all-views       every view of each scene (the default, but not with --quick)\n"
           "  --first-view      only the first view listed for each scene\n"
           "  --no-heatmaps     do not write heatmap PNGs\n"
+          "  --device cpu|gpu  gpu: trace every configuration the GPU supports (R-tree\n"
+          "                    stackless/ordered, kd-tree SLTR/HTR) on the GPU too,\n"
+          "                    with the R-trees of Feldmann's Tables 1-2 also ordered as\n"
+          "                    in his GPU rows; report.md gets a GPU section (default cpu)\n"
           "  -h, --help        this text\n"
           "\n"
           "Exit status: 0 done, 1 a run-time failure, 2 bad options.\n",
@@ -216,7 +220,8 @@ void bench_options_free(bench_options *o)
 /* Options that take a value. */
 static const char *const with_value[] = {"--scenes",     "--out",     "--threads", "--repeat",
                                          "--budget",     "--only",    "--scene",   "--size",
-                                         "--rtree-size", "--kd-size", "--dmin"};
+                                         "--rtree-size", "--kd-size", "--dmin",
+                                         "--device"};
 
 int bench_parse_options(int argc, char **argv, bench_options *out, FILE *err)
 {
@@ -313,6 +318,15 @@ int bench_parse_options(int argc, char **argv, bench_options *out, FILE *err)
             out->all_views = strcmp(name, "--all-views") == 0;
         } else if (strcmp(name, "--no-heatmaps") == 0) {
             out->heatmaps = 0;
+        } else if (strcmp(name, "--device") == 0) {
+            if (strcmp(value, "cpu") == 0) {
+                out->device = TT_DEVICE_CPU;
+            } else if (strcmp(value, "gpu") == 0) {
+                out->device = TT_DEVICE_GPU;
+            } else {
+                fprintf(err, "treetrace bench: --device: expected cpu or gpu, got '%s'\n", value);
+                goto fail;
+            }
         } else {
             fprintf(err, "treetrace bench: unknown option '%s' (see --help)\n", arg);
             goto fail;

@@ -166,6 +166,7 @@ static void agreement(const bench_report *rp)
         if (seen[i] || !rp->r->items[i].compared_pixels) continue;
         rows++;
         const char *acc = m->runs[i].build.accel, *tr = bench_traversal_name(&m->runs[i].build);
+        const tt_device dev = m->runs[i].device;
         uint64_t agree = 0, total = 0, retraced = 0, ours_right = 0;
         size_t runs = 0;
         double worst = 2.0;
@@ -173,7 +174,8 @@ static void agreement(const bench_report *rp)
         for (size_t j = i; j < m->count; j++) {
             const bench_result *r = &rp->r->items[j];
             if (!r->compared_pixels || strcmp(m->runs[j].build.accel, acc) != 0 ||
-                strcmp(bench_traversal_name(&m->runs[j].build), tr) != 0)
+                strcmp(bench_traversal_name(&m->runs[j].build), tr) != 0 ||
+                m->runs[j].device != dev)
                 continue;
             seen[j] = 1;
             agree += r->agree_pixels;
@@ -189,8 +191,8 @@ static void agreement(const bench_report *rp)
         bench_options_string(&w->build, opts, sizeof opts);
         fprintf(
             f,
-            "| %s | %s | %zu | %llu | %llu | %.4f%% | %.4f%%: %s:%s %ux%u %s, %s | %llu | %llu |\n",
-            acc, tr, runs, (unsigned long long)agree, (unsigned long long)total,
+            "| %s | %s%s | %zu | %llu | %llu | %.4f%% | %.4f%%: %s:%s %ux%u %s, %s | %llu | %llu |\n",
+            acc, tr, dev == TT_DEVICE_GPU ? " (GPU)" : "", runs, (unsigned long long)agree, (unsigned long long)total,
             100.0 * (double)agree / (double)total, 100.0 * worst, rp->s->items[w->scene].name,
             rp->s->items[w->scene].views[w->view].name, w->size.width, w->size.height,
             bench_rays_name(w->rays), opts, (unsigned long long)retraced,
@@ -251,6 +253,7 @@ int bench_write_report(tt_context *ctx, const char *out_dir, const bench_options
     agreement(&rp);
     bench_report_feldmann(&rp);
     bench_report_havran(&rp);
+    bench_report_gpu(&rp);
     heatmaps(&rp);
     int bad = ferror(f);
     if (fclose(f) != 0 || bad) {

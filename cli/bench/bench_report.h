@@ -36,5 +36,7 @@ int bench_result_ok(const bench_result *r);
 
 void bench_report_feldmann(const bench_report *rp);
 void bench_report_havran(const bench_report *rp);
+/* The GPU section (--device gpu); nothing without GPU runs. */
+void bench_report_gpu(const bench_report *rp);
 
 #endif

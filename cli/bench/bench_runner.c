@@ -76,6 +76,7 @@ static long embree_partner(const bench_matrix *m, const bench_run *run)
     bench_run e = *run;
     tt_build_options_default(&e.build);
     e.build.accel = "embree";
+    e.device = TT_DEVICE_CPU; /* the reference for GPU runs too */
     const bench_run *found = bench_matrix_find(m, &e);
     return found ? (long)(found - m->runs) : -1;
 }
@@ -114,6 +115,7 @@ static void render_one(tt_context *ctx, const bench_options *o, const bench_scen
     ro.width = run->size.width;
     ro.height = run->size.height;
     ro.shadows = run->rays == BENCH_PRIMARY_SHADOW;
+    ro.device = run->device;
 
     /* warm-up: one fast pass + the counting pass, hits and per-pixel counts */
     ro.repeat = 1;
@@ -207,6 +209,8 @@ static void build_and_render(tt_context *ctx, const bench_options *o,
         snprintf(what, sizeof what, "%s:%s %ux%u %s %s %s (%s)", s->name, s->views[run->view].name,
                  run->size.width, run->size.height, run->build.accel,
                  bench_traversal_name(&run->build), bench_rays_name(run->rays), opts);
+        if (run->device == TT_DEVICE_GPU)
+            snprintf(what + strlen(what), sizeof what - strlen(what), " on the GPU");
         if (!accel) {
             r->ok = 0;
             snprintf(r->error, sizeof r->error, "%s", msg);

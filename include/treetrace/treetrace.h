@@ -271,6 +271,19 @@ tt_status tt_view_find_memory(tt_context *ctx, const char *views_name, const cha
 
 /* --------------------------------------------------------------- rendering */
 
+/* Where tt_render traces. The GPU (CUDA, one thread per ray) runs the same
+ * traversal code as the CPU for: rtree with the auto, stackless or ordered
+ * traversal, and kdtree with sltr or htr (without the shadow-caster hint).
+ * Other choices on the GPU are TT_ERR_UNSUPPORTED, as is a build without
+ * CUDA; a build with CUDA on a machine without a usable GPU gives
+ * TT_ERR_NO_DEVICE. The context's message says which. */
+typedef enum tt_device { TT_DEVICE_CPU = 0, TT_DEVICE_GPU } tt_device;
+
+/* TT_OK when tt_render can run on `device` here (for the GPU: this build has
+ * CUDA and a usable GPU is present), otherwise the status and message
+ * tt_render would give. Cheap enough to call before loading a scene. */
+tt_status tt_device_check(tt_context *ctx, tt_device device);
+
 typedef struct tt_render_options {
     uint32_t width, height; /* default 1024 x 1024                            */
     int shadows;            /* trace shadow rays, default 1                   */
@@ -279,6 +292,7 @@ typedef struct tt_render_options {
     int keep_hits;          /* keep the hit buffer (tt_render_hits)           */
     int keep_image;         /* keep the shaded RGB image                      */
     int keep_pixel_stats;   /* keep per-pixel counts for heatmaps             */
+    tt_device device;       /* default TT_DEVICE_CPU                          */
 } tt_render_options;
 
 void tt_render_options_default(tt_render_options *options);
@@ -295,6 +309,13 @@ typedef struct tt_render_summary {
     int has_stats;
     tt_ray_stats primary_stats, shadow_stats; /* from one (counting) pass      */
     int threads;                /* OpenMP threads the passes ran on            */
+    /* Where the passes ran. On the GPU the trace times above are CUDA-event
+     * times of the kernels (primary rays are generated on the GPU, inside
+     * the primary time), and the copies are timed apart: */
+    tt_device device;
+    double upload_s;        /* GPU: structure and triangles to the device      */
+    double download_s;      /* GPU: the per-pixel results back to the host     */
+    char device_name[64];   /* GPU: the device's name; "" on the CPU           */
 } tt_render_summary;
 
 tt_status tt_render(tt_context *ctx, const tt_scene *scene, const tt_accel *accel,

@@ -7,11 +7,17 @@
 #ifdef __CUDACC__
 #define TT_HD static inline __host__ __device__
 #define TT_RESTRICT __restrict__
-/* Reads of the tree go through the read-only data cache on the GPU. */
-#define TT_LDG(p) __ldg(p)
 #else
 #define TT_HD static inline
 #define TT_RESTRICT restrict
+#endif
+
+/* Reads of the tree go through the read-only data cache on the GPU. Only in
+ * nvcc's device pass (__CUDA_ARCH__): a TT_HD function is also compiled for
+ * the host, where __ldg does not exist. */
+#ifdef __CUDA_ARCH__
+#define TT_LDG(p) __ldg(p)
+#else
 #define TT_LDG(p) (*(p))
 #endif
 

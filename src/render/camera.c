@@ -18,22 +18,6 @@ void tt_camera_basis_init(tt_camera_basis *b, const tt_camera *c, uint32_t width
     b->height = height;
 }
 
-void tt_camera_basis_ray(const tt_camera_basis *b, uint32_t x, uint32_t y, tt_ray *out)
-{
-    float u = (2.0f * ((float)x + 0.5f) / (float)b->width - 1.0f) * b->h * b->aspect;
-    float v = (1.0f - 2.0f * ((float)y + 0.5f) / (float)b->height) * b->h;
-    tt_vec3 d = tt_v3_add(b->forward, tt_v3_add(tt_v3_scale(b->right, u), tt_v3_scale(b->up, v)));
-    d = tt_v3_normalize(d);
-    out->org[0] = b->eye.x;
-    out->org[1] = b->eye.y;
-    out->org[2] = b->eye.z;
-    out->dir[0] = d.x;
-    out->dir[1] = d.y;
-    out->dir[2] = d.z;
-    out->tmin = 0.0f;
-    out->tmax = INFINITY;
-}
-
 tt_status tt_camera_ray(const tt_camera *c, uint32_t width, uint32_t height, uint32_t x,
                         uint32_t y, tt_ray *out)
 {
@@ -56,24 +40,7 @@ int tt_shadow_ray_eps(const tt_scene *scene, const tt_camera *c, float eps,
                       const tt_ray *primary, const tt_hit *hit, tt_ray *out)
 {
     if (!c->has_light || hit->prim == TT_INVALID_ID) return 0;
-    const float *tri = scene->tri + 9 * (size_t)hit->prim;
-    tt_vec3 v0 = tt_v3_load(tri), v1 = tt_v3_load(tri + 3), v2 = tt_v3_load(tri + 6);
-    tt_vec3 dir = tt_v3_load(primary->dir);
-    tt_vec3 n = tt_v3_normalize(tt_v3_cross(tt_v3_sub(v1, v0), tt_v3_sub(v2, v0)));
-    if (tt_v3_dot(n, dir) > 0.0f) n = tt_v3_scale(n, -1.0f);
-    tt_vec3 p = tt_v3_add(tt_v3_load(primary->org), tt_v3_scale(dir, hit->t));
-    tt_vec3 o = tt_v3_add(p, tt_v3_scale(n, eps));
-    tt_vec3 to_light = tt_v3_sub(tt_v3_load(c->light), o);
-    float dist = tt_v3_length(to_light);
-    tt_vec3 d = tt_v3_normalize(to_light);
-    out->org[0] = o.x;
-    out->org[1] = o.y;
-    out->org[2] = o.z;
-    out->dir[0] = d.x;
-    out->dir[1] = d.y;
-    out->dir[2] = d.z;
-    out->tmin = 0.0f;
-    out->tmax = dist * (1.0f - 1e-4f);
+    tt_shadow_ray_from(scene->tri + 9 * (size_t)hit->prim, c->light, eps, primary, hit->t, out);
     return 1;
 }
 

@@ -7,18 +7,11 @@
 
 #include "geometry/vec3.h"
 #include "io/scene.h"
+#include "render/camera_hd.h"
 
-/* The per-image constants of the conventions' camera formula. */
-typedef struct tt_camera_basis {
-    tt_vec3 eye, forward, right, up;
-    float h, aspect;
-    uint32_t width, height;
-} tt_camera_basis;
-
+/* The basis of tt_camera_basis_ray (camera_hd.h) for a w x h image. */
 void tt_camera_basis_init(tt_camera_basis *b, const tt_camera *c, uint32_t width,
                           uint32_t height);
-/* The primary ray of pixel (x, y); the caller guarantees x < width, y < height. */
-void tt_camera_basis_ray(const tt_camera_basis *b, uint32_t x, uint32_t y, tt_ray *out);
 
 /* tt_shadow_ray with the epsilon (1e-4 * scene diagonal) computed once by the
  * caller instead of once a ray. */

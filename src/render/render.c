@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "render/frame.h"
+#include "render/render_gpu.h"
 
 struct tt_render_result {
     tt_context *ctx;
@@ -110,6 +111,15 @@ static tt_status validate(tt_context *ctx, const tt_scene *scene, const tt_accel
                         accel->vt->name);
     const char *problem = tt_camera_problem(camera);
     if (problem) return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "tt_render: bad camera: %s", problem);
+    if (o->device != TT_DEVICE_CPU && o->device != TT_DEVICE_GPU)
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "tt_render: unknown device %d",
+                        (int)o->device);
+    if (o->device == TT_DEVICE_GPU) {
+        /* what the GPU supports first: it holds whatever the machine */
+        tt_status st = tt_render_gpu_validate(ctx, accel);
+        if (st == TT_OK) st = tt_device_check(ctx, TT_DEVICE_GPU);
+        return st;
+    }
     return TT_OK;
 }
 
@@ -174,29 +184,54 @@ static void init_frame(tt_context *ctx, const tt_scene *scene, const tt_accel *a
     f->eye_hint = accel->vt->locate ? accel->vt->locate(accel, camera->eye) : TT_INVALID_ID;
 }
 
-/* The timed passes, K times; min and median of the totals. */
-static tt_status timed_passes(tt_context *ctx, tt_frame *f, const tt_render_options *o,
-                              tt_render_summary *s)
+/* Min of the primary and shadow times over the K repeats, min and median
+ * of their totals (the CPU and the GPU path record the same way). */
+static tt_status reduce_times(tt_context *ctx, const double *primary_s, const double *shadow_s,
+                              int repeat, tt_render_summary *s)
 {
-    double *totals = tt_alloc_array(ctx, (size_t)o->repeat, sizeof *totals);
+    double *totals = tt_alloc_array(ctx, (size_t)repeat, sizeof *totals);
     if (!totals) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "tt_render: out of memory");
     s->primary_s = s->shadow_s = s->trace_s = INFINITY;
+    for (int k = 0; k < repeat; k++) {
+        totals[k] = primary_s[k] + shadow_s[k];
+        s->primary_s = fmin(s->primary_s, primary_s[k]);
+        s->shadow_s = fmin(s->shadow_s, shadow_s[k]);
+        s->trace_s = fmin(s->trace_s, totals[k]);
+    }
+    qsort(totals, (size_t)repeat, sizeof *totals, cmp_double);
+    int mid = repeat / 2;
+    s->trace_median_s = repeat % 2 ? totals[mid] : 0.5 * (totals[mid - 1] + totals[mid]);
+    tt_free(ctx, totals);
+    return TT_OK;
+}
+
+/* The CPU's timed passes, K times, into primary_s[k] and shadow_s[k]. */
+static void timed_passes(tt_frame *f, const tt_render_options *o, double *primary_s,
+                         double *shadow_s)
+{
     for (int k = 0; k < o->repeat; k++) {
         double t0 = tt_now();
         tt_frame_trace_primary(f);
         double t1 = tt_now();
         if (o->shadows) tt_frame_trace_shadow(f);
         double t2 = tt_now();
-        s->primary_s = fmin(s->primary_s, t1 - t0);
-        s->shadow_s = fmin(s->shadow_s, t2 - t1);
-        s->trace_s = fmin(s->trace_s, t2 - t0);
-        totals[k] = t2 - t0;
+        primary_s[k] = t1 - t0;
+        shadow_s[k] = t2 - t1;
     }
-    qsort(totals, (size_t)o->repeat, sizeof *totals, cmp_double);
-    int mid = o->repeat / 2;
-    s->trace_median_s = o->repeat % 2 ? totals[mid] : 0.5 * (totals[mid - 1] + totals[mid]);
-    tt_free(ctx, totals);
-    return TT_OK;
+}
+
+/* The passes on the CPU: the counting pass first, so that the buffers
+ * finally hold the fast variant's results (the ones the timings are about),
+ * then the timed ones. */
+static void cpu_passes(tt_frame *f, const tt_render_options *o, double *primary_s,
+                       double *shadow_s, tt_render_summary *s)
+{
+    if (o->stats || o->keep_pixel_stats) {
+        tt_frame_trace_primary_stats(f, &s->primary_stats);
+        if (o->shadows) tt_frame_trace_shadow_stats(f, &s->shadow_stats);
+        s->has_stats = 1;
+    }
+    timed_passes(f, o, primary_s, shadow_s);
 }
 
 static void count_results(const tt_frame *f, int shadows, tt_render_summary *s)
@@ -242,19 +277,24 @@ tt_status tt_render(tt_context *ctx, const tt_scene *scene, const tt_accel *acce
     tt_render_summary *s = &r->summary;
     s->width = o.width;
     s->height = o.height;
-    s->threads = f.threads;
-    /* The counting pass runs first, so that the buffers finally hold the
-     * fast variant's results (the ones the timings are about). */
-    if (o.stats || o.keep_pixel_stats) {
-        tt_frame_trace_primary_stats(&f, &s->primary_stats);
-        if (o.shadows) tt_frame_trace_shadow_stats(&f, &s->shadow_stats);
-        s->has_stats = 1;
+    s->device = o.device;
+    double *times = tt_alloc_array(ctx, 2 * (size_t)o.repeat, sizeof *times);
+    if (!times) {
+        st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "tt_render: out of memory");
+        goto fail;
     }
-    st = timed_passes(ctx, &f, &o, s);
+    if (o.device == TT_DEVICE_GPU) {
+        st = tt_render_gpu_passes(ctx, &f, &o, times, times + o.repeat, r->image, s);
+    } else {
+        s->threads = f.threads;
+        cpu_passes(&f, &o, times, times + o.repeat, s);
+    }
+    if (st == TT_OK) st = reduce_times(ctx, times, times + o.repeat, o.repeat, s);
+    tt_free(ctx, times);
     if (st != TT_OK) goto fail;
     count_results(&f, o.shadows, s);
     if (r->hits) encode_hits(&f, o.shadows, r->hits);
-    if (r->image) tt_frame_shade(&f, o.shadows, r->image);
+    if (r->image && o.device == TT_DEVICE_CPU) tt_frame_shade(&f, o.shadows, r->image);
     free_frame(ctx, &f);
     *out = r;
     return TT_OK;

@@ -22,7 +22,8 @@ static const char *const columns[] = {
     "shadow_triangles_per_ray", "all_nodes_per_ray", "all_interior_per_ray",
     "all_leaves_per_ray", "all_boxes_per_ray", "all_triangles_per_ray",
     "embree_trace_median_s", "time_vs_embree", "agree_embree_pixels", "compared_pixels",
-    "agree_embree_pct", "arbitrated_pixels", "ours_match_bruteforce"};
+    "agree_embree_pct", "arbitrated_pixels", "ours_match_bruteforce", "device",
+    "device_name", "upload_s", "download_s"};
 /* clang-format on */
 #define NCOL (sizeof columns / sizeof columns[0])
 
@@ -123,6 +124,8 @@ static void check_row(const row *r)
 {
     const char *acc = get(r, "accel");
     int ok = strcmp(get(r, "status"), "ok") == 0;
+    /* without --device gpu every run is on the CPU, with no copy times */
+    CHECK(strcmp(get(r, "device"), "cpu") == 0 && get(r, "upload_s")[0] == '\0');
     CHECK_MSG(ok == offered(acc), "%s %s: status %s (%s)", acc, get(r, "traversal"),
               get(r, "status"), get(r, "error"));
     if (!ok) {

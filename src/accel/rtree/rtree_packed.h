@@ -146,8 +146,11 @@ TT_HD float tt_rt_box_test(const tt_wray *r, const float *g, uint32_t M, uint32_
  * SSE instructions (minps/maxps compute exactly a < b ? a : b and
  * a > b ? a : b, like tt_rt_min/tt_rt_max; no FMA contraction under ISO C),
  * elsewhere (and on the GPU) as a plain loop. The ray is broadcast to SIMD
- * lanes once per ray (tt_rt_lanes_init), not once per node. */
-#if defined(__SSE2__) && !defined(__CUDACC__)
+ * lanes once per ray (tt_rt_lanes_init), not once per node. Defining
+ * TT_NO_SIMD forces the plain loop on the CPU too: the single-source test
+ * (tests/cuda/test_single_source.c) compiles the traversals that way, so
+ * the CPU runs exactly the code the GPU runs. */
+#if defined(__SSE2__) && !defined(__CUDACC__) && !defined(TT_NO_SIMD)
 #include <emmintrin.h>
 typedef struct tt_rt_lanes {
     __m128 ox, oy, oz, ix, iy, iz, tmin;
