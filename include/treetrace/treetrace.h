@@ -103,7 +103,16 @@ tt_status tt_scene_triangle(const tt_scene *scene, size_t i, float out[9]);
 
 #define TT_INVALID_ID 0xFFFFFFFFu
 
-/* Rays cover t in [tmin, tmax). dir need not be normalized. */
+/* Rays cover t in [tmin, tmax), the points org + t * dir. dir need not be
+ * normalized. The contract every structure (Embree included) is held to:
+ * - org and dir finite, dir not zero;
+ * - 0 <= tmin: rays start at their origin (as in Embree); to find hits behind
+ *   a point, move the origin back instead;
+ * - tmax may be +inf; tmin >= tmax is a legal empty interval (a miss, not
+ *   occluded);
+ * - NaN in tmin or tmax, a negative tmin (also -inf), a non-finite origin or
+ *   direction, or a zero direction: tt_intersect1(_ex) / tt_occluded1(_ex)
+ *   return TT_ERR_INVALID_ARGUMENT with a message naming the cause. */
 typedef struct tt_ray {
     float org[3];
     float tmin;
@@ -207,8 +216,9 @@ tt_status tt_accel_check(const tt_accel *accel);
 typedef void (*tt_stat_fn)(void *user, const char *key, double value);
 tt_status tt_accel_statistics(const tt_accel *accel, tt_stat_fn fn, void *user);
 
-/* Closest hit on [tmin, tmax). Rejects non-finite origins/directions and a
- * zero direction with TT_ERR_INVALID_ARGUMENT. */
+/* Closest hit on [tmin, tmax). Rejects rays breaking tt_ray's contract
+ * (non-finite origin/direction, zero direction, NaN interval ends, negative
+ * tmin) with TT_ERR_INVALID_ARGUMENT. */
 tt_status tt_intersect1(const tt_accel *accel, const tt_ray *ray, tt_hit *hit);
 /* Any hit on [tmin, tmax): *occluded = 1 or 0. */
 tt_status tt_occluded1(const tt_accel *accel, const tt_ray *ray, int *occluded);
@@ -238,7 +248,11 @@ typedef struct tt_camera {
     int has_light;
 } tt_camera;
 
-/* Primary ray of pixel (x, y), y = 0 the top row, per the conventions. */
+/* Primary ray of pixel (x, y), y = 0 the top row, per the conventions.
+ * TT_ERR_INVALID_ARGUMENT for a pixel outside the image, or a camera that
+ * cannot make rays: NaN/Inf in eye, look, up, fov or (with has_light) the
+ * light, eye == look, a zero up vector or one parallel to the view
+ * direction, fov outside (0, 180) degrees. */
 tt_status tt_camera_ray(const tt_camera *camera, uint32_t width, uint32_t height,
                         uint32_t x, uint32_t y, tt_ray *out);
 /* A camera framing the scene's bounding box, light above-left of the eye. */

@@ -131,8 +131,17 @@ static tt_status prepare(const tt_accel *accel, const tt_ray *ray, tt_wray *w)
                             "ray with a non-finite origin or direction");
     if (ray->dir[0] == 0.0f && ray->dir[1] == 0.0f && ray->dir[2] == 0.0f)
         return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT, "ray with a zero direction");
+    /* The ray contract (treetrace.h, tt_ray): t in [tmin, tmax) with
+     * 0 <= tmin. Rays start at their origin, as in Embree, whose traversal
+     * cannot look behind it; a caller wanting hits behind a point moves the
+     * origin back. tmin >= tmax (also +inf) is a legal empty interval. */
     if (isnan(ray->tmin) || isnan(ray->tmax))
-        return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT, "ray with a NaN interval");
+        return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT,
+                        "ray with a NaN interval (tmin %g, tmax %g)", ray->tmin, ray->tmax);
+    if (ray->tmin < 0.0f)
+        return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT,
+                        "ray with a negative tmin (%g): rays start at their origin, tmin >= 0",
+                        ray->tmin);
     tt_wray_init(w, ray->org, ray->dir, ray->tmin, ray->tmax);
     return TT_OK;
 }

@@ -77,28 +77,48 @@ TT_HD int tt_aabb_contains_point(const tt_aabb *b, const float *p)
 }
 
 /* min / max as plain comparisons: fminf / fmaxf must honour NaN, which keeps
- * them out of line (libm calls) at ISO C flags. No NaN can reach the slab
- * test: the inverse direction is finite (see ray.h) and inputs are finite. */
+ * them out of line (libm calls) at ISO C flags. */
 TT_HD float tt_minf(float a, float b) { return a < b ? a : b; }
 TT_HD float tt_maxf(float a, float b) { return a > b ? a : b; }
 
+/* Exact slab test (Williams, Barrus, Morley & Shirley 2005, with NaN-aware
+ * accumulation): with the true inverse direction rcp (+-inf for a +-0
+ * component), the near plane of each axis is chosen by the direction's sign
+ * and (plane - org) * rcp is
+ *  - +inf (near) / -inf (far) when the ray runs parallel outside the slab:
+ *    the box is missed;
+ *  - -inf (near) / +inf (far) when it runs strictly inside: no constraint;
+ *  - NaN (0 * inf) only when it lies exactly in that plane, i.e. on the
+ *    closed box's face: no constraint either.
+ * The accumulations below ignore a NaN candidate (a comparison with NaN is
+ * false, so the accumulator stays), which gives exactly the closed-box
+ * answer for rays lying in a face plane of either sign of zero. */
+TT_HD float tt_slab_near(float t, float acc) { return t > acc ? t : acc; }
+TT_HD float tt_slab_far(float t, float acc) { return t < acc ? t : acc; }
+
 /* Conservative slab test on the ray's [tmin, tmax). Returns the entry
  * distance, or +inf if the box is missed. The far distance is widened by a
- * few ulps (Ize 2013), and the entry lowered by a relative 2^-16 before it is
+ * few ulps (Ize 2013) away from t = 0, and the entry lowered by a relative 2^-16 before it is
  * compared with tmax: the triangle test computes t differently, and a
  * triangle lying in a flat box's face can come out a few ulps nearer than the
- * box's rounded entry. The precomputed inverse direction never holds inf, so
- * no 0 * inf NaN can arise for rays lying in a slab's plane. */
+ * box's rounded entry. A parallel ray outside a slab makes tnear +inf, whose
+ * lowered entry inf - inf is NaN and fails `entry < tmax`: a miss. */
 TT_HD float tt_ray_box(const tt_wray *r, const float *lo, const float *hi, float tmax)
 {
-    float tx0 = (lo[0] - r->org[0]) * r->inv[0], tx1 = (hi[0] - r->org[0]) * r->inv[0];
-    float ty0 = (lo[1] - r->org[1]) * r->inv[1], ty1 = (hi[1] - r->org[1]) * r->inv[1];
-    float tz0 = (lo[2] - r->org[2]) * r->inv[2], tz1 = (hi[2] - r->org[2]) * r->inv[2];
-    float tnear = tt_maxf(tt_maxf(tt_minf(tx0, tx1), tt_minf(ty0, ty1)),
-                          tt_maxf(tt_minf(tz0, tz1), r->tmin));
-    float tfar = tt_minf(tt_minf(tt_maxf(tx0, tx1), tt_maxf(ty0, ty1)), tt_maxf(tz0, tz1));
-    tfar *= 1.00000024f; /* 1 + 2 gamma(3) */
-    float entry = tnear - fabsf(tnear) * (1.0f / 65536.0f);
+    float tnear = r->tmin, tfar = TT_INF;
+    for (int k = 0; k < 3; k++) {
+        const int neg = r->rcp[k] < 0.0f;
+        const float tn = ((neg ? hi[k] : lo[k]) - r->org[k]) * r->rcp[k];
+        const float tf = ((neg ? lo[k] : hi[k]) - r->org[k]) * r->rcp[k];
+        tnear = tt_slab_near(tn, tnear);
+        tfar = tt_slab_far(tf, tfar);
+    }
+    /* widened away from the origin by a relative 2^-22 (1 + 2 gamma(3)
+     * rounded to float): for tfar >= 0 exactly tfar * 1.00000024f, and a
+     * negative tfar (a box behind the origin, found with a negative tmin)
+     * is widened too instead of shrunk */
+    tfar += fabsf(tfar) * (1.0f / 4194304.0f);
+    const float entry = tnear - fabsf(tnear) * (1.0f / 65536.0f);
     return (tnear <= tfar && entry < tmax) ? entry : TT_INF;
 }
 

@@ -10,7 +10,8 @@
 typedef struct tt_wray {
     float org[3];
     float dir[3];
-    float inv[3]; /* finite: +-1e30 stands in for 1/0 (see tt_wray_init)     */
+    float inv[3]; /* finite: +-1e30 stands in for 1/0 (kd-tree plane tests)   */
+    float rcp[3]; /* exact IEEE 1/dir: +-inf for a +-0 component (box tests)   */
     float tmin, tmax;
     int kx, ky, kz;   /* kz: the dominant axis of dir                          */
     float sx, sy, sz; /* shear constants (Woop, Benthin & Wald 2013)           */
@@ -19,7 +20,10 @@ typedef struct tt_wray {
 TT_HD float tt_safe_inv(float d)
 {
     /* A huge finite value instead of inf: (plane - org) * inv stays 0 for a
-     * ray lying in the plane instead of NaN, so the box test never drops it. */
+     * ray lying in the plane instead of NaN. The kd-tree's plane tests rely
+     * on it being finite. The slab test of boxes must not use it: a ray in a
+     * box's upper face plane would get the slab [-1e30, 0] and be culled
+     * (see rcp and tt_ray_box). */
     return fabsf(d) < 1e-30f ? copysignf(1e30f, d) : 1.0f / d;
 }
 
@@ -29,6 +33,7 @@ TT_HD void tt_wray_init(tt_wray *r, const float *org, const float *dir, float tm
         r->org[i] = org[i];
         r->dir[i] = dir[i];
         r->inv[i] = tt_safe_inv(dir[i]);
+        r->rcp[i] = 1.0f / dir[i];
     }
     r->tmin = tmin;
     r->tmax = tmax;

@@ -23,6 +23,13 @@ tt_status tt_camera_ray(const tt_camera *c, uint32_t width, uint32_t height, uin
 {
     if (!c || !out || width == 0 || height == 0 || x >= width || y >= height)
         return TT_ERR_INVALID_ARGUMENT;
+    /* A camera that cannot make rays (NaN/Inf values, eye == look, up zero
+     * or parallel to the view, fov outside (0, 180)) would give NaN rays.
+     * The check costs a few square roots, about as much as the basis below;
+     * the renderer never comes through here (it checks once and builds its
+     * rays with tt_camera_basis_ray), so only per-ray callers pay it. No
+     * context here to carry a message: tt_render names the problem. */
+    if (tt_camera_problem(c)) return TT_ERR_INVALID_ARGUMENT;
     tt_camera_basis b;
     tt_camera_basis_init(&b, c, width, height);
     tt_camera_basis_ray(&b, x, y, out);
@@ -53,7 +60,10 @@ const char *tt_camera_problem(const tt_camera *c)
     if (c->has_light && !finite3(c->light)) return "the light is not finite";
     if (!(c->fov_deg > 0.0f && c->fov_deg < 180.0f)) return "the field of view is not in (0, 180)";
     tt_vec3 f = tt_v3_sub(tt_v3_load(c->look), tt_v3_load(c->eye));
-    if (!(tt_v3_length(f) > 0.0f)) return "the eye and the look point coincide";
+    float dist = tt_v3_length(f);
+    if (!(dist > 0.0f)) return "the eye and the look point coincide";
+    /* the basis normalizes look - eye: its length must be a float too */
+    if (!isfinite(dist)) return "the eye and the look point are too far apart for float";
     tt_vec3 r = tt_v3_cross(tt_v3_normalize(f), tt_v3_load(c->up));
     if (!(tt_v3_length(r) > 0.0f) || !isfinite(tt_v3_length(r)))
         return "the up vector is zero or parallel to the view direction";

@@ -1,10 +1,11 @@
 /* Camera and shadow rays against values computed by hand from the formulas
  * of ../shared/scenes/README.md (in double precision, independently of the
- * library's float code). */
+ * library's float code), and the cameras tt_camera_ray must refuse. */
 #include <math.h>
 #include <string.h>
 
 #include "check.h"
+#include "render/camera.h" /* tt_camera_problem */
 
 #define PI 3.14159265358979323846
 
@@ -185,11 +186,70 @@ static void test_frame_scene(void)
     tt_context_destroy(ctx);
 }
 
+/* tt_camera_ray refuses cameras that cannot make rays (they would give NaN
+ * or zero directions), and tt_camera_problem names each cause; a valid
+ * camera close to every limit is still accepted. */
+static void test_invalid_cameras(void)
+{
+    const tt_camera good = {{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 60.0f, {1, 2, 3}, 1};
+    tt_ray r;
+    CHECK(tt_camera_ray(&good, 4, 3, 2, 1, &r) == TT_OK && tt_camera_problem(&good) == NULL);
+    struct {
+        const char *what, *needle;
+        tt_camera c;
+    } bad[] = {
+        {"NaN eye", "eye", good},          {"inf look", "look point", good},
+        {"-inf up", "up", good},           {"NaN light", "light", good},
+        {"NaN fov", "field of view", good}, {"fov 0", "field of view", good},
+        {"fov 180", "field of view", good}, {"fov -1", "field of view", good},
+        {"eye == look", "coincide", good},  {"zero up", "parallel", good},
+        {"up along the view", "parallel", good}, {"eye and look 4e38 apart", "too far", good},
+    };
+    bad[0].c.eye[1] = NAN;
+    bad[1].c.look[2] = INFINITY;
+    bad[2].c.up[0] = -INFINITY;
+    bad[3].c.light[2] = NAN;
+    bad[4].c.fov_deg = NAN;
+    bad[5].c.fov_deg = 0.0f;
+    bad[6].c.fov_deg = 180.0f;
+    bad[7].c.fov_deg = -1.0f;
+    memcpy(bad[8].c.look, bad[8].c.eye, sizeof bad[8].c.look);
+    memset(bad[9].c.up, 0, sizeof bad[9].c.up);
+    bad[10].c.up[1] = 0.0f, bad[10].c.up[2] = 3.0f;
+    bad[11].c.eye[0] = 2e38f, bad[11].c.look[0] = -2e38f; /* each finite, the distance not */
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        const char *p = tt_camera_problem(&bad[i].c);
+        CHECK_MSG(p && strstr(p, bad[i].needle), "%s: problem \"%s\"", bad[i].what,
+                  p ? p : "(none)");
+        memset(&r, 0, sizeof r);
+        CHECK_MSG(tt_camera_ray(&bad[i].c, 4, 3, 2, 1, &r) == TT_ERR_INVALID_ARGUMENT,
+                  "tt_camera_ray accepted a camera with %s", bad[i].what);
+    }
+    /* a non-finite light does not matter without a light */
+    tt_camera c = bad[3].c;
+    c.has_light = 0;
+    CHECK(tt_camera_ray(&c, 4, 3, 2, 1, &r) == TT_OK);
+    /* near the limits but valid: a tiny fov, a wide one, up almost along
+     * the view, eye and look one ulp apart */
+    c = good;
+    c.fov_deg = 1e-3f;
+    CHECK(tt_camera_ray(&c, 4, 3, 0, 0, &r) == TT_OK && isfinite(r.dir[0] + r.dir[1] + r.dir[2]));
+    c.fov_deg = 179.9f;
+    CHECK(tt_camera_ray(&c, 4, 3, 0, 0, &r) == TT_OK && isfinite(r.dir[0] + r.dir[1] + r.dir[2]));
+    c = good;
+    c.up[1] = 1e-3f, c.up[2] = 1.0f;
+    CHECK(tt_camera_ray(&c, 4, 3, 0, 0, &r) == TT_OK && isfinite(r.dir[0] + r.dir[1] + r.dir[2]));
+    c = good;
+    c.look[2] = nextafterf(c.eye[2], 0.0f);
+    CHECK(tt_camera_ray(&c, 4, 3, 1, 2, &r) == TT_OK && isfinite(r.dir[0] + r.dir[1] + r.dir[2]));
+}
+
 int main(void)
 {
     test_axis_camera();
     test_general_camera();
     test_shadow_ray();
     test_frame_scene();
+    test_invalid_cameras();
     return tt_test_finish();
 }

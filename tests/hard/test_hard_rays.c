@@ -8,8 +8,9 @@
  * - the targeted families of hard_rays.h (origins on triangles, grazing rays,
  *   zero/tiny/huge direction components, exact interval ends) on the cubes
  *   and on a flat scene;
- * - NaN/Inf in the ray and a zero direction: TT_ERR_INVALID_ARGUMENT with a
- *   message, from every structure;
+ * - NaN/Inf in the ray, a zero direction and a negative tmin (the ray
+ *   contract, treetrace.h): TT_ERR_INVALID_ARGUMENT with a message, from
+ *   every structure; empty intervals are legal misses;
  * - cameras with NaN/Inf or degenerate values: tt_camera_ray and tt_render
  *   refuse them. */
 #include "core/context.h" /* tt_now */
@@ -141,10 +142,31 @@ static void visit_invalid(void *user, const char *label, const tt_accel *acc)
     expect_invalid(ctx, acc, &n1, "a NaN tmin", "NaN");
     tt_ray n2 = {{0.5f, 0.5f, -3.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, nan};
     expect_invalid(ctx, acc, &n2, "a NaN tmax", "NaN");
-    /* infinite ends are fine: the whole line */
-    tt_ray whole = {{0.5f, 0.5f, -3.0f}, -inf, {0.0f, 0.0f, 1.0f}, inf};
+    /* the ray contract: rays start at their origin, tmin >= 0; a negative
+     * tmin, -inf included, is refused */
+    tt_ray back = {{0.5f, 0.5f, 3.0f}, -10.0f, {0.0f, 0.0f, 1.0f}, inf};
+    expect_invalid(ctx, acc, &back, "a negative tmin", "negative tmin");
+    back.tmin = -inf;
+    expect_invalid(ctx, acc, &back, "tmin = -inf", "negative tmin");
+    back.tmin = -1e-45f;
+    expect_invalid(ctx, acc, &back, "tmin = -1e-45", "negative tmin");
+    /* legal: tmin = -0 (zero), tmax = +inf, and empty intervals (tmin >=
+     * tmax, tmin = +inf, tmax = -inf): misses, not occluded */
     tt_hit h;
-    CHECK_OK(ctx, tt_intersect1(acc, &whole, &h));
+    int occ = -1;
+    tt_ray up = {{0.5f, 0.5f, -3.0f}, -0.0f, {0.0f, 0.0f, 1.0f}, inf};
+    CHECK_OK(ctx, tt_intersect1(acc, &up, &h));
+    CHECK_MSG(h.prim != TT_INVALID_ID, "%s: the ray up the cubes' column missed", tt_accel_name(acc));
+    const float empty[3][2] = {{inf, inf}, {0.0f, -inf}, {2.0f, 1.0f}};
+    for (int k = 0; k < 3; k++) {
+        up.tmin = empty[k][0];
+        up.tmax = empty[k][1];
+        CHECK_OK(ctx, tt_intersect1(acc, &up, &h));
+        CHECK_OK(ctx, tt_occluded1(acc, &up, &occ));
+        CHECK_MSG(h.prim == TT_INVALID_ID && h.t == inf && occ == 0,
+                  "%s: the empty interval [%g, %g) gave prim %u occluded %d", tt_accel_name(acc),
+                  up.tmin, up.tmax, h.prim, occ);
+    }
 }
 
 /* ---------------------------------------------------------------- camera */

@@ -4,17 +4,25 @@
  * single-ray queries (rtcIntersect1 / rtcOccluded1) because our structures
  * are compared per ray as well.
  *
- * Intervals. Our rays cover [tmin, tmax). In robust mode (which we use)
- * Embree's triangle test accepts tnear <= t <= tfar, closed at both ends
- * (the default Moeller test is open at tnear; we never use it). So tnear is
- * tmin and tfar the largest float below tmax, which makes "t <= tfar" the
- * same predicate as "t < tmax" for a float t. Embree's traversal clamps
- * tnear to 0, so a negative tmin is honoured by moving the origin to
- * org + tmin * dir first. Embree decides hits its own way (a Pluecker test
+ * Intervals. Our rays cover [tmin, tmax) with 0 <= tmin (the tt_ray
+ * contract, enforced by accel.c's prepare; Embree's traversal asserts
+ * tnear >= 0 too). In robust mode (which we use) Embree's triangle test
+ * accepts tnear <= t <= tfar, closed at both ends (the default Moeller test
+ * is open at tnear; we never use it). So tnear is tmin and tfar the largest
+ * float below tmax, which makes "t <= tfar" the same predicate as
+ * "t < tmax" for a float t. Embree decides hits its own way (a Pluecker test
  * with a one-ulp tolerance on the edges), so a hit within an ulp or so of
  * either end, or of a silhouette edge, may still be decided differently
- * from our watertight test; that is the only inexactness left. The t, u, v
- * of a closest hit are our own (see embree_intersect).
+ * from our watertight test; that is the only inexactness left, and why the
+ * hard tests (tests/hard) hold Embree to exact agreement on generic rays
+ * only. The t, u, v of a closest hit are our own (see embree_intersect).
+ *
+ * Legal rays Embree cannot take. Embree asserts (and the packaged library
+ * aborts the process on) origin or direction components beyond 1.844e18;
+ * tiny directions make its box tests disagree with its triangle test. The
+ * library must never abort, so to_rtc_ray rescales such directions by a
+ * power of two (exact) and answers rays whose origin is beyond Embree's
+ * range with the bruteforce template instead.
  *
  * A known Embree limitation (shared by any slab test that uses a finite
  * stand-in for 1/0): a ray with a zero direction component lying exactly in
@@ -27,6 +35,7 @@
  * the device's memory monitor: its BVH plus its own copy of the vertices and
  * indices (Embree needs padded buffers, so it cannot share the scene's). */
 #include <embree3/rtcore.h>
+#include <float.h>
 #include <math.h>
 #include <stdatomic.h>
 #include <stdio.h>
@@ -34,6 +43,12 @@
 
 #include "accel/accel.h"
 #include "geometry/triangle.h"
+
+/* The bruteforce template (fast variant only) answers the few rays Embree
+ * cannot take (see to_rtc_ray). */
+#define TT_STATS 0
+#include "accel/stats_variant.h"
+#include "accel/bruteforce/bruteforce_trace.h"
 
 #define EMBREE_MESSAGE_MAX 512
 
@@ -179,47 +194,75 @@ static void embree_destroy(tt_accel *a)
 /* The largest float below x (x itself for -inf); see the top for why. */
 static float below(float x) { return nextafterf(x, -INFINITY); }
 
-/* Fills Embree's ray from ours. Returns 0 when [tmin, tmax) is empty, so
- * the caller reports a miss without asking Embree. *shift is what must be
- * added to Embree's t to get ours (non-zero only for a negative tmin). */
-static int to_rtc_ray(const tt_accel *a, const tt_wray *r, struct RTCRay *out, float *shift)
+/* Embree's ray.valid(), asserted by its traversal (and the Debian build
+ * keeps the assertions, so a failing one aborts the whole process): every
+ * origin and direction component at most FLT_LARGE = 1.844e18 in
+ * magnitude. Origins are kept a little inside that. */
+#define EMBREE_ORG_LIMIT 1.0e18f
+/* Directions whose largest component lies in [2^-20, 2^20] are passed as
+ * they are (the common case: the exact ray the caller gave). Outside it, a
+ * huge component breaks valid() and a tiny direction makes Embree's safe
+ * reciprocals (clamped for tiny inputs) inconsistent with the triangle test,
+ * so the direction is rescaled by a power of two to a largest component in
+ * [1, 2). */
+#define EMBREE_DIR_LO 0x1p-20f
+#define EMBREE_DIR_HI 0x1p20f
+
+typedef enum rtc_ray_kind {
+    RTC_RAY_EMPTY,      /* [tmin, tmax) is empty: a miss, Embree not asked   */
+    RTC_RAY_READY,      /* *out is the ray, exactly                          */
+    RTC_RAY_BRUTEFORCE, /* Embree cannot take it exactly: answer without it */
+} rtc_ray_kind;
+
+/* Fills Embree's ray from ours. The tt_ray contract (accel.c's prepare)
+ * guarantees 0 <= tmin and no NaN. *scale_exp is e such that our t is
+ * ldexpf(Embree's t, e): a direction scaled by 2^-e reaches the same points
+ * at t * 2^-e, and both scalings are exact in binary floating point as long
+ * as nothing overflows or becomes subnormal, which is checked by scaling
+ * back: a ray where that fails, or whose origin is beyond Embree's range, is
+ * not given to Embree at all. */
+static rtc_ray_kind to_rtc_ray(const tt_wray *r, struct RTCRay *out, int *scale_exp)
 {
     float tmin = r->tmin, tmax = r->tmax;
-    if (isinf(tmin) && tmin < 0.0f) {
-        /* No start point at -inf: any t behind every vertex will do. */
-        float lo[3], hi[3], reach2 = 0.0f, len2 = 0.0f;
-        tt_scene_bounds(a->scene, lo, hi);
-        for (int k = 0; k < 3; k++) {
-            float d = fmaxf(fabsf(lo[k] - r->org[k]), fabsf(hi[k] - r->org[k]));
-            reach2 += d * d;
-            len2 += r->dir[k] * r->dir[k];
-        }
-        tmin = -2.0f * sqrtf(reach2 / len2) - 1.0f;
+    if (!(tmin < tmax)) return RTC_RAY_EMPTY;
+    float m = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        if (!(fabsf(r->org[k]) <= EMBREE_ORG_LIMIT)) return RTC_RAY_BRUTEFORCE;
+        m = fmaxf(m, fabsf(r->dir[k]));
     }
-    if (!(tmin < tmax)) return 0;
-    *shift = 0.0f;
+    float dir[3] = {r->dir[0], r->dir[1], r->dir[2]};
+    int e = 0;
+    if (!(m >= EMBREE_DIR_LO && m <= EMBREE_DIR_HI)) {
+        /* m = 2^e * [1, 2) (m > 0: prepare refused zero directions); the
+         * direction becomes dir * 2^-e, t becomes t * 2^e */
+        e = ilogbf(m);
+        for (int k = 0; k < 3; k++) {
+            dir[k] = ldexpf(r->dir[k], -e);
+            if (ldexpf(dir[k], e) != r->dir[k]) return RTC_RAY_BRUTEFORCE;
+        }
+        float lo = ldexpf(tmin, e), hi = ldexpf(tmax, e); /* inf stays inf */
+        if (ldexpf(lo, -e) != tmin || ldexpf(hi, -e) != tmax) return RTC_RAY_BRUTEFORCE;
+        tmin = lo;
+        tmax = hi;
+    }
+    *scale_exp = -e;
     out->org_x = r->org[0];
     out->org_y = r->org[1];
     out->org_z = r->org[2];
-    if (tmin < 0.0f) {
-        /* Embree's traversal starts at t = 0: start the ray at tmin instead. */
-        out->org_x += tmin * r->dir[0];
-        out->org_y += tmin * r->dir[1];
-        out->org_z += tmin * r->dir[2];
-        *shift = tmin;
-        tmax -= tmin;
-        tmin = 0.0f;
-    }
-    out->dir_x = r->dir[0];
-    out->dir_y = r->dir[1];
-    out->dir_z = r->dir[2];
+    out->dir_x = dir[0];
+    out->dir_y = dir[1];
+    out->dir_z = dir[2];
     out->tnear = tmin; /* inclusive in robust mode, see the top */
-    out->tfar = isinf(tmax) ? tmax : below(tmax);
+    /* An open-ended ray still ends where our t overflows: the watertight
+     * test (every other structure) cannot return a hit beyond FLT_MAX, and a
+     * tiny direction may reach the scene only there. For a direction scaled
+     * down (e > 0) that bound is inf again. */
+    out->tfar = isinf(tmax) ? ldexpf(FLT_MAX, e) : below(tmax);
     out->time = 0.0f;
     out->mask = 0xFFFFFFFFu;
     out->id = 0;
     out->flags = 0;
-    return 1;
+    return RTC_RAY_READY;
 }
 
 static void embree_intersect(const tt_accel *a, const tt_wray *r, tt_hit *hit,
@@ -230,8 +273,17 @@ static void embree_intersect(const tt_accel *a, const tt_wray *r, tt_hit *hit,
     tt_hit_clear(hit);
     if (!e->has_geometry) return;
     struct RTCRayHit rh;
-    float shift;
-    if (!to_rtc_ray(a, r, &rh.ray, &shift)) return;
+    int scale_exp = 0;
+    switch (to_rtc_ray(r, &rh.ray, &scale_exp)) {
+    case RTC_RAY_EMPTY: return;
+    case RTC_RAY_BRUTEFORCE:
+        /* Origins beyond 1e18 (or directions that no power of two brings
+         * into range exactly): Embree would abort on them, so these rays,
+         * which a real scene hardly ever casts, get the reference answer. */
+        tt_bf_intersect(a->scene->tri, (uint32_t)a->scene->triangle_count, r, hit, NULL);
+        return;
+    case RTC_RAY_READY: break;
+    }
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
@@ -254,7 +306,9 @@ static void embree_intersect(const tt_accel *a, const tt_wray *r, tt_hit *hit,
         hit->u = u;
         hit->v = v;
     } else {
-        hit->t = rh.ray.tfar + shift;
+        /* Embree's t is on the rescaled ray, in [tmin, tmax) scaled, so
+         * scaled back (exactly) it lies in ours; tfar above keeps it finite. */
+        hit->t = ldexpf(rh.ray.tfar, scale_exp);
         hit->u = rh.hit.u; /* Embree's u, v weigh vertices 1 and 2, as ours do */
         hit->v = rh.hit.v;
     }
@@ -266,8 +320,13 @@ static int embree_occluded(const tt_accel *a, const tt_wray *r, tt_trace_args *a
     (void)args;
     if (!e->has_geometry) return 0;
     struct RTCRay ray;
-    float shift;
-    if (!to_rtc_ray(a, r, &ray, &shift)) return 0;
+    int scale_exp = 0;
+    switch (to_rtc_ray(r, &ray, &scale_exp)) {
+    case RTC_RAY_EMPTY: return 0;
+    case RTC_RAY_BRUTEFORCE: /* see embree_intersect */
+        return tt_bf_occluded(a->scene->tri, (uint32_t)a->scene->triangle_count, r, NULL);
+    case RTC_RAY_READY: break;
+    }
     struct RTCIntersectContext ic;
     rtcInitIntersectContext(&ic);
     rtcOccluded1(e->scene, &ic, &ray);

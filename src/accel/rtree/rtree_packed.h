@@ -40,6 +40,14 @@
 #include "geometry/hd.h"
 #include "geometry/ray.h"
 
+/* For a traversal body that must be inlined into each caller, so that its
+ * specialisation for a constant M folds. */
+#ifdef __CUDACC__
+#define TT_RT_INLINE static __forceinline__ __host__ __device__
+#else
+#define TT_RT_INLINE static inline __attribute__((always_inline))
+#endif
+
 /* Entries per node: the options allow 4 <= M <= 16. */
 #define TT_RT_MAX_M 16
 /* At most 16 levels (L <= 15): with M >= 4 the slot count M^L already
@@ -78,10 +86,26 @@ TT_HD uint32_t tt_rt_mod(const tt_rtree_packed *t, uint32_t x)
     return t->m_shift ? x & (t->M - 1) : x % t->M;
 }
 
-/* The paper's index arithmetic (slot n on level l). */
+/* Division and remainder by M where the caller may know M at compile time
+ * (the traversals are specialised for the default M = 4): shifts then. */
+TT_HD uint32_t tt_rt_div_m(const tt_rtree_packed *t, uint32_t M, uint32_t x)
+{
+    return M == 4 ? x >> 2 : tt_rt_div(t, x);
+}
+TT_HD uint32_t tt_rt_mod_m(const tt_rtree_packed *t, uint32_t M, uint32_t x)
+{
+    return M == 4 ? x & 3 : tt_rt_mod(t, x);
+}
+
+/* The paper's index arithmetic (slot n on level l); the _m forms take M
+ * (== t->M) from the caller, which may know it at compile time. */
+TT_HD uint32_t tt_rt_first_child_m(const tt_rtree_packed *t, uint32_t M, uint32_t n, uint32_t l)
+{
+    return (n - t->delta[l]) * M + t->delta[l - 1];
+}
 TT_HD uint32_t tt_rt_first_child(const tt_rtree_packed *t, uint32_t n, uint32_t l)
 {
-    return (n - t->delta[l]) * t->M + t->delta[l - 1];
+    return tt_rt_first_child_m(t, t->M, n, l);
 }
 TT_HD uint32_t tt_rt_parent(const tt_rtree_packed *t, uint32_t n, uint32_t l)
 {
@@ -100,56 +124,81 @@ TT_HD const float *tt_rt_group(const tt_rtree_packed *t, uint32_t n, uint32_t *p
     return t->box + (size_t)tt_rt_div(t, i) * 6 * t->M;
 }
 
-/* min/max as plain comparisons: fminf/fmaxf are library calls on the CPU
- * unless the compiler may assume no NaNs, and no NaN arises here (the
- * inverse direction is finite and nonzero, box bounds are finite or the
- * +inf empty mark, so no 0 * inf and no inf - inf). */
-TT_HD float tt_rt_min(float a, float b) { return a < b ? a : b; }
-TT_HD float tt_rt_max(float a, float b) { return a > b ? a : b; }
-
 /* The group holding the M child slots of slot n on level l > 0 (they fill
  * it exactly: n_e(n) is the first slot of group gfirst[l-1] + n - Delta_L(l)). */
+TT_HD const float *tt_rt_child_group_m(const tt_rtree_packed *t, uint32_t M, uint32_t n,
+                                       uint32_t l)
+{
+    return t->box + (size_t)(t->gfirst[l - 1] + (n - t->delta[l])) * 6 * M;
+}
 TT_HD const float *tt_rt_child_group(const tt_rtree_packed *t, uint32_t n, uint32_t l)
 {
-    return t->box + (size_t)(t->gfirst[l - 1] + (n - t->delta[l])) * 6 * t->M;
+    return tt_rt_child_group_m(t, t->M, n, l);
 }
 
-/* Slab test of the box at position pos of group g: tt_ray_box
- * (geometry/aabb.h), same operations in the same order, so the same
- * conservative widening of the far distance holds; the returned entry
- * distance is lowered a little (see below). */
-TT_HD float tt_rt_box_test(const tt_wray *r, const float *g, uint32_t M, uint32_t pos,
-                           float tmax)
+/* Where each axis's near and far planes are for one ray: the offsets (in
+ * floats from a group's start) of the bound arrays k (lo) and k + 3 (hi),
+ * chosen by the direction's sign — computed once per ray, so that a box
+ * test is straight-line code. */
+typedef struct tt_rt_planes {
+    uint32_t n[3], f[3];
+} tt_rt_planes;
+
+TT_HD void tt_rt_planes_init(tt_rt_planes *p, const tt_wray *r, uint32_t M)
 {
-    const float tx0 = (TT_LDG(g + pos) - r->org[0]) * r->inv[0];
-    const float ty0 = (TT_LDG(g + M + pos) - r->org[1]) * r->inv[1];
-    const float tz0 = (TT_LDG(g + 2 * M + pos) - r->org[2]) * r->inv[2];
-    const float tx1 = (TT_LDG(g + 3 * M + pos) - r->org[0]) * r->inv[0];
-    const float ty1 = (TT_LDG(g + 4 * M + pos) - r->org[1]) * r->inv[1];
-    const float tz1 = (TT_LDG(g + 5 * M + pos) - r->org[2]) * r->inv[2];
-    const float tnear = tt_rt_max(tt_rt_max(tt_rt_min(tx0, tx1), tt_rt_min(ty0, ty1)),
-                                  tt_rt_max(tt_rt_min(tz0, tz1), r->tmin));
-    float tfar = tt_rt_min(tt_rt_min(tt_rt_max(tx0, tx1), tt_rt_max(ty0, ty1)),
-                           tt_rt_max(tz0, tz1));
-    tfar *= 1.00000024f; /* 1 + 2 gamma(3), as in tt_ray_box */
+    for (uint32_t k = 0; k < 3; k++) {
+        const int neg = r->rcp[k] < 0.0f;
+        p->n[k] = (neg ? k + 3 : k) * M;
+        p->f[k] = (neg ? k : k + 3) * M;
+    }
+}
+
+/* Slab test of the box whose lo x bound is at b (a group's start plus the
+ * slot's position): exactly tt_ray_box (geometry/aabb.h) — the exact scheme
+ * with the true inverse direction, sign-selected near/far planes and
+ * NaN-ignoring accumulation, so a ray lying in a face plane is kept — on the
+ * group's SoA bounds. */
+TT_HD float tt_rt_box_test_at(const tt_wray *r, const tt_rt_planes *p, const float *b, float tmax)
+{
+    const float tn0 = (TT_LDG(b + p->n[0]) - r->org[0]) * r->rcp[0];
+    const float tn1 = (TT_LDG(b + p->n[1]) - r->org[1]) * r->rcp[1];
+    const float tn2 = (TT_LDG(b + p->n[2]) - r->org[2]) * r->rcp[2];
+    const float tf0 = (TT_LDG(b + p->f[0]) - r->org[0]) * r->rcp[0];
+    const float tf1 = (TT_LDG(b + p->f[1]) - r->org[1]) * r->rcp[1];
+    const float tf2 = (TT_LDG(b + p->f[2]) - r->org[2]) * r->rcp[2];
+    const float tnear = tt_slab_near(tn2, tt_slab_near(tn1, tt_slab_near(tn0, r->tmin)));
+    float tfar = tt_slab_far(tf2, tt_slab_far(tf1, tt_slab_far(tf0, TT_INF)));
+    tfar += fabsf(tfar) * (1.0f / 4194304.0f); /* widened away from 0, as in tt_ray_box */
     /* The entry distance is compared with hit distances from the triangle
      * test, a different computation: a triangle inside the box can come out
      * a few ulps nearer than the box's rounded entry (e.g. a flat box and a
      * ray whose tmax ends just behind the plane). Culling with the entry
-     * lowered by a relative 2^-16 never drops such a box. */
+     * lowered by a relative 2^-16 never drops such a box. A parallel ray
+     * outside a slab has tnear = +inf and entry NaN: a miss. */
     const float entry = tnear - fabsf(tnear) * (1.0f / 65536.0f);
     return (tnear <= tfar && entry < tmax) ? entry : TT_INF;
 }
 
+/* The same for the box at position pos of group g. */
+TT_HD float tt_rt_box_test(const tt_wray *r, const float *g, uint32_t M, uint32_t pos,
+                           float tmax)
+{
+    tt_rt_planes p;
+    tt_rt_planes_init(&p, r, M);
+    return tt_rt_box_test_at(r, &p, g + pos, tmax);
+}
+
 /* The slab test of four consecutive slots of a group (stride M between the
  * six bound arrays). Identical per slot to tt_rt_box_test: on x86 CPUs as
- * SSE instructions (minps/maxps compute exactly a < b ? a : b and
- * a > b ? a : b, like tt_rt_min/tt_rt_max; no FMA contraction under ISO C),
- * elsewhere (and on the GPU) as a plain loop. The ray is broadcast to SIMD
- * lanes once per ray (tt_rt_lanes_init), not once per node. Defining
- * TT_NO_SIMD forces the plain loop on the CPU too: the single-source test
- * (tests/cuda/test_single_source.c) compiles the traversals that way, so
- * the CPU runs exactly the code the GPU runs. */
+ * SSE instructions, elsewhere (and on the GPU) as a plain loop. The ray is
+ * broadcast to SIMD lanes once per ray (tt_rt_lanes_init); its near and far
+ * plane offsets (tt_rt_planes) come along. maxps(a, b) and minps(a, b) return b
+ * when either operand is NaN, so with the candidate first and the
+ * accumulator second they are exactly tt_slab_near and tt_slab_far (no FMA
+ * contraction under ISO C). Defining TT_NO_SIMD forces the plain loop on
+ * the CPU too: the single-source test (tests/cuda/test_single_source.c)
+ * compiles the traversals that way, so the CPU runs exactly the code the
+ * GPU runs. */
 #if defined(__SSE2__) && !defined(__CUDACC__) && !defined(TT_NO_SIMD)
 #include <emmintrin.h>
 typedef struct tt_rt_lanes {
@@ -161,27 +210,27 @@ TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r)
     s->ox = _mm_set1_ps(r->org[0]);
     s->oy = _mm_set1_ps(r->org[1]);
     s->oz = _mm_set1_ps(r->org[2]);
-    s->ix = _mm_set1_ps(r->inv[0]);
-    s->iy = _mm_set1_ps(r->inv[1]);
-    s->iz = _mm_set1_ps(r->inv[2]);
+    s->ix = _mm_set1_ps(r->rcp[0]);
+    s->iy = _mm_set1_ps(r->rcp[1]);
+    s->iz = _mm_set1_ps(r->rcp[2]);
     s->tmin = _mm_set1_ps(r->tmin);
 }
 
-TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, uint32_t M,
-                           float tmax, float *TT_RESTRICT out)
+TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const tt_rt_planes *p,
+                           const float *TT_RESTRICT g, float tmax, float *TT_RESTRICT out)
 {
-    const __m128 tx0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g), s->ox), s->ix);
-    const __m128 ty0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + M), s->oy), s->iy);
-    const __m128 tz0 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 2 * M), s->oz), s->iz);
-    const __m128 tx1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 3 * M), s->ox), s->ix);
-    const __m128 ty1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 4 * M), s->oy), s->iy);
-    const __m128 tz1 = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + 5 * M), s->oz), s->iz);
-    const __m128 tn = _mm_max_ps(_mm_max_ps(_mm_min_ps(tx0, tx1), _mm_min_ps(ty0, ty1)),
-                                 _mm_max_ps(_mm_min_ps(tz0, tz1), s->tmin));
-    const __m128 tf = _mm_mul_ps(_mm_min_ps(_mm_min_ps(_mm_max_ps(tx0, tx1), _mm_max_ps(ty0, ty1)),
-                                            _mm_max_ps(tz0, tz1)),
-                                 _mm_set1_ps(1.00000024f));
-    const __m128 abs_tn = _mm_and_ps(tn, _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)));
+    const __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->n[0]), s->ox), s->ix);
+    const __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->n[1]), s->oy), s->iy);
+    const __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->n[2]), s->oz), s->iz);
+    const __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->f[0]), s->ox), s->ix);
+    const __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->f[1]), s->oy), s->iy);
+    const __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->f[2]), s->oz), s->iz);
+    const __m128 tn = _mm_max_ps(tnz, _mm_max_ps(tny, _mm_max_ps(tnx, s->tmin)));
+    const __m128 tf0 = _mm_min_ps(tfz, _mm_min_ps(tfy, _mm_min_ps(tfx, _mm_set1_ps(TT_INF))));
+    const __m128 absmask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    const __m128 tf =
+        _mm_add_ps(tf0, _mm_mul_ps(_mm_and_ps(tf0, absmask), _mm_set1_ps(1.0f / 4194304.0f)));
+    const __m128 abs_tn = _mm_and_ps(tn, absmask);
     const __m128 entry = _mm_sub_ps(tn, _mm_mul_ps(abs_tn, _mm_set1_ps(1.0f / 65536.0f)));
     const __m128 hit = _mm_and_ps(_mm_cmple_ps(tn, tf), _mm_cmplt_ps(entry, _mm_set1_ps(tmax)));
     _mm_storeu_ps(out, _mm_or_ps(_mm_and_ps(hit, entry), _mm_andnot_ps(hit, _mm_set1_ps(TT_INF))));
@@ -193,24 +242,36 @@ typedef struct tt_rt_lanes {
 
 TT_HD void tt_rt_lanes_init(tt_rt_lanes *s, const tt_wray *r) { s->r = r; }
 
-TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const float *TT_RESTRICT g, uint32_t M,
-                           float tmax, float *TT_RESTRICT out)
+TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const tt_rt_planes *p,
+                           const float *TT_RESTRICT g, float tmax, float *TT_RESTRICT out)
 {
-    for (uint32_t i = 0; i < 4; i++) out[i] = tt_rt_box_test(s->r, g, M, i, tmax);
+    for (uint32_t i = 0; i < 4; i++) out[i] = tt_rt_box_test_at(s->r, p, g + i, tmax);
 }
 #endif
 
 /* The slab test of all M slots of one group at once (a node's children):
  * out[i] is slot i's entry distance or +inf. Four at a time when M is a
  * multiple of 4, one at a time otherwise. */
-TT_HD void tt_rt_group_test(const tt_rt_lanes *s, const tt_wray *r, const float *TT_RESTRICT g,
-                            uint32_t M, float tmax, float *TT_RESTRICT out)
+TT_HD void tt_rt_group_test(const tt_rt_lanes *s, const tt_wray *r, const tt_rt_planes *p,
+                            const float *TT_RESTRICT g, uint32_t M, float tmax,
+                            float *TT_RESTRICT out)
 {
     if ((M & 3) == 0) {
-        for (uint32_t i = 0; i < M; i += 4) tt_rt_box_test4(s, g + i, M, tmax, out + i);
+        for (uint32_t i = 0; i < M; i += 4) tt_rt_box_test4(s, p, g + i, tmax, out + i);
     } else {
-        for (uint32_t i = 0; i < M; i++) out[i] = tt_rt_box_test(r, g, M, i, tmax);
+        for (uint32_t i = 0; i < M; i++) out[i] = tt_rt_box_test_at(r, p, g + i, tmax);
     }
+}
+
+/* Lowest set bit of a nonzero mask (a GPU intrinsic in nvcc's device pass,
+ * a compiler builtin — one instruction — on the CPU). */
+TT_HD uint32_t tt_rt_ctz(uint32_t x)
+{
+#ifdef __CUDA_ARCH__
+    return (uint32_t)(__ffs((int)x) - 1);
+#else
+    return (uint32_t)__builtin_ctz(x);
+#endif
 }
 
 #endif
