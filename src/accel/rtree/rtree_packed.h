@@ -39,6 +39,7 @@
 #include "geometry/aabb.h"
 #include "geometry/hd.h"
 #include "geometry/ray.h"
+#include "treetrace/treetrace.h" /* tt_hit */
 
 /* For a traversal body that must be inlined into each caller, so that its
  * specialisation for a constant M folds. */
@@ -272,6 +273,23 @@ TT_HD uint32_t tt_rt_ctz(uint32_t x)
 #else
     return (uint32_t)__builtin_ctz(x);
 #endif
+}
+
+
+/* The closing step every traversal shares: the closest hit found (leaf
+ * triangle slot `found`, or TT_INVALID_ID) written to *hit in the scene's
+ * triangle ids; nothing is written for any-hit queries. Returns whether a
+ * triangle was hit. */
+TT_HD int tt_rt_finish(const tt_rtree_packed *TT_RESTRICT t, int any, uint32_t found, float best,
+                       float bu, float bv, tt_hit *hit)
+{
+    if (!any) {
+        hit->t = found == TT_INVALID_ID ? TT_INF : best;
+        hit->u = bu;
+        hit->v = bv;
+        hit->prim = found == TT_INVALID_ID ? TT_INVALID_ID : TT_LDG(t->prim + found);
+    }
+    return found != TT_INVALID_ID;
 }
 
 #endif

@@ -81,13 +81,7 @@ TT_RT_INLINE int TT_VARIANT(tt_rt_stack_m)(const tt_rtree_packed *TT_RESTRICT t,
         }
     }
 done:
-    if (!any) {
-        hit->t = found == TT_INVALID_ID ? TT_INF : best;
-        hit->u = bu;
-        hit->v = bv;
-        hit->prim = found == TT_INVALID_ID ? TT_INVALID_ID : TT_LDG(t->prim + found);
-    }
-    return found != TT_INVALID_ID;
+    return tt_rt_finish(t, any, found, best, bu, bv, hit);
 }
 
 /* The traversal, specialised for the default M = 4 (constant index

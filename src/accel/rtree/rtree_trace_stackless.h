@@ -76,13 +76,7 @@ TT_RT_INLINE int TT_VARIANT(tt_rt_stackless_m)(const tt_rtree_packed *TT_RESTRIC
         }
     }
 done:
-    if (!any) {
-        hit->t = found == TT_INVALID_ID ? TT_INF : best;
-        hit->u = bu;
-        hit->v = bv;
-        hit->prim = found == TT_INVALID_ID ? TT_INVALID_ID : TT_LDG(t->prim + found);
-    }
-    return found != TT_INVALID_ID;
+    return tt_rt_finish(t, any, found, best, bu, bv, hit);
 }
 
 /* Not specialised for M = 4 like the other traversals: with one box test
