@@ -13,8 +13,10 @@
  * are dropped; with front-to-back order that ends the traversal right after
  * the hit's cell. */
 
-TT_HD int TT_VARIANT(tt_kd_htr)(const tt_kd_view *T, const tt_wray *r, int any, tt_kd_best *best,
-                                tt_ray_stats *stats)
+/* The general loop, for rays with a zero direction component (they may
+ * lie in a split plane, which takes both children). */
+TT_HD int TT_VARIANT(tt_kd_htr_general)(const tt_kd_view *T, const tt_wray *r, int any,
+                                        tt_kd_best *best, tt_ray_stats *stats)
 {
     struct {
         uint32_t node;
@@ -22,7 +24,6 @@ TT_HD int TT_VARIANT(tt_kd_htr)(const tt_kd_view *T, const tt_wray *r, int any, 
     } stack[TT_KD_STACK];
     float ta, tb;
     (void)stats;
-    TT_COUNT(stats, boxes, 1);
     tt_kd_band band;
     tt_kd_band_init(&band, r);
     if (!tt_kd_root_interval(T, r, &band, &ta, &tb)) return 0;
@@ -75,4 +76,85 @@ TT_HD int TT_VARIANT(tt_kd_htr)(const tt_kd_view *T, const tt_wray *r, int any, 
         ta = stack[sp].ta;
         tb = stack[sp].tb;
     }
+}
+
+/* The loop for rays that move along every axis (nearly all of them): the
+ * general loop less its per-node test for a zero direction component, and
+ * with one rounding band per axis instead of one per plane:
+ * e_k = band * (M_k + |o_k|) / |d_k|, M_k the largest |coordinate| of the
+ * scene box along k. Every split plane lies in that box, so e_k bounds each
+ * plane's own band (kd_ray.h) from above; a wider band only visits a thin
+ * cell more now and then, and the per-node |p| multiply-add goes away.
+ * Both pay a few percent (measured A/B, 1 thread).
+ *
+ * Branches, not selects: making the near / far / both choice with
+ * conditional moves (the far child always written to the stack, kept only
+ * when both are visited) cut mispredictions 3x in a simulated predictor
+ * but made real runs 2x slower, because the next node's address then
+ * waits on the plane test; with a predicted branch the next node is
+ * fetched at once and the float work runs beside it. For the same reason
+ * the near child is picked by a branch on the direction's sign, not by a
+ * mask loaded per axis (about 15% slower). */
+TT_HD int TT_VARIANT(tt_kd_htr_moving)(const tt_kd_view *T, const tt_wray *r, int any,
+                                       tt_kd_best *best, tt_ray_stats *stats)
+{
+    struct {
+        uint32_t node;
+        float ta, tb;
+    } stack[TT_KD_STACK];
+    float ta, tb, e[3];
+    (void)stats;
+    tt_kd_band band;
+    tt_kd_band_init(&band, r);
+    if (!tt_kd_root_interval(T, r, &band, &ta, &tb)) return 0;
+    for (int k = 0; k < 3; k++) {
+        const float m =
+            tt_kd_max(fabsf(TT_LDG(&T->aug[0].lo[k])), fabsf(TT_LDG(&T->aug[0].hi[k])));
+        e[k] = m * band.bi[k] + band.bo[k];
+    }
+    int sp = 0;
+    uint32_t node = 0;
+    for (;;) {
+        tt_kd_node n = T->nodes[node];
+        while (!tt_kd_is_leaf(n.bits)) {
+            TT_COUNT(stats, interior, 1);
+            TT_COUNT(stats, nodes, 1);
+            const int k = tt_kd_axis(n.bits);
+            const uint32_t left = tt_kd_left(node, n.bits), right = tt_kd_right(n.bits);
+            const int down = r->dir[k] < 0.0f;
+            const uint32_t first = down ? right : left, second = down ? left : right;
+            const float ts = (n.u.split - r->org[k]) * r->inv[k];
+            const float lo = ts - e[k], hi = ts + e[k];
+            if (hi < ta) {
+                node = second;
+            } else if (lo > tb) {
+                node = first;
+            } else {
+                stack[sp].node = second;
+                stack[sp].ta = tt_kd_max(ta, lo);
+                stack[sp].tb = tb;
+                sp++;
+                node = first;
+                tb = tt_kd_min(tb, hi);
+            }
+            n = T->nodes[node];
+        }
+        if (TT_VARIANT(tt_kd_leaf)(T, n, r, any, best, stats)) return 1;
+        do {
+            if (sp == 0) return 0;
+            sp--;
+        } while (stack[sp].ta >= best->t);
+        node = stack[sp].node;
+        ta = stack[sp].ta;
+        tb = stack[sp].tb;
+    }
+}
+
+TT_HD int TT_VARIANT(tt_kd_htr)(const tt_kd_view *T, const tt_wray *r, int any, tt_kd_best *best,
+                                tt_ray_stats *stats)
+{
+    TT_COUNT(stats, boxes, 1);
+    if (r->dir[0] != 0.0f && r->dir[1] != 0.0f && r->dir[2] != 0.0f)
+        return TT_VARIANT(tt_kd_htr_moving)(T, r, any, best, stats);
+    return TT_VARIANT(tt_kd_htr_general)(T, r, any, best, stats);
 }
