@@ -28,7 +28,12 @@ static kd_split find_split(n2_state *s, const item *items, uint32_t n, const tt_
         size_t m = 0;
         for (uint32_t i = 0; i < n; i++)
             m += kd_events_of(s->ev + m, items[i].box.lo[axis], items[i].box.hi[axis], items[i].tri);
-        kd_radix_sort_events(s->ev, s->tmp, m);
+        /* A comparison sort, as the algorithm's name says: O(n log n) per
+         * node, O(N log^2 N) in all. A radix sort here would make this an
+         * O(N log N) builder too (with a bigger constant than the one that
+         * sorts once), and the two would no longer be the algorithms the
+         * issue and W&H compare. */
+        kd_sort_events(s->ev, s->tmp, m);
         kd_sweep(s->b, s->ev, m, n, cell, axis, &best);
     }
     return best;
