@@ -91,17 +91,25 @@ static int child_lists(nl_state *s, const nl_lists *parent, uint32_t n_left, uin
                        const size_t rlen[3], uint32_t nb, nl_lists *left, nl_lists *right)
 {
     const size_t lcap = 2 * (size_t)n_left, rcap = 2 * (size_t)n_right;
-    left->block = tt_alloc_array(s->b->ctx, 3 * lcap, sizeof *left->block);
-    right->block = tt_alloc_array(s->b->ctx, 3 * rcap, sizeof *right->block);
+    /* One slot more than the runs need: the filter below writes every
+     * event to both children and advances only the side it belongs to. */
+    left->block = tt_alloc_array(s->b->ctx, 3 * lcap + 1, sizeof *left->block);
+    right->block = tt_alloc_array(s->b->ctx, 3 * rcap + 1, sizeof *right->block);
     if (!left->block || !right->block) return 0;
     uint64_t *ldst = left->block, *rdst = right->block;
     for (int k = 0; k < 3; k++) {
         const uint64_t *ev = axis_list(parent, k);
         size_t nl = 0, nr = 0;
+        /* Branch-free: the sides come in no predictable order. A store past
+         * a run's end lands in the next axis' space (overwritten later) or
+         * in the spare slot. */
         for (size_t i = 0; i < parent->n[k]; i++) {
-            const uint8_t side = s->side[kd_event_tri(ev[i])];
-            if (side == KD_SIDE_LEFT) ldst[nl++] = ev[i];
-            else if (side == KD_SIDE_RIGHT) rdst[nr++] = ev[i];
+            const uint64_t e = ev[i];
+            const uint8_t side = s->side[kd_event_tri(e)];
+            ldst[nl] = e;
+            rdst[nr] = e;
+            nl += side == KD_SIDE_LEFT;
+            nr += side == KD_SIDE_RIGHT;
         }
         kd_merge_in_place(ldst, nl, lclip + 2 * (size_t)nb * k, llen[k]);
         kd_merge_in_place(rdst, nr, rclip + 2 * (size_t)nb * k, rlen[k]);
