@@ -21,7 +21,15 @@ static void insertion_sort(uint64_t *a, size_t n)
 void kd_merge_events(const uint64_t *a, size_t n_a, const uint64_t *b, size_t n_b, uint64_t *out)
 {
     size_t i = 0, j = 0, k = 0;
-    while (i < n_a && j < n_b) out[k++] = (b[j] < a[i]) ? b[j++] : a[i++];
+    /* Without a data-dependent branch: which run the next key comes from
+     * is a coin toss on the builders' inputs. */
+    while (i < n_a && j < n_b) {
+        const uint64_t x = a[i], y = b[j];
+        const int take_b = y < x;
+        out[k++] = take_b ? y : x;
+        j += take_b;
+        i += !take_b;
+    }
     while (i < n_a) out[k++] = a[i++];
     while (j < n_b) out[k++] = b[j++];
 }
