@@ -41,14 +41,19 @@ void kd_sweep(const kd_builder *b, const uint64_t *ev, size_t n_ev, uint32_t n,
         if (p > cell->lo[axis] && p < cell->hi[axis]) {
             const double pl = cap + ((double)p - lo) * side;
             const double pr = cap + (hi - (double)p) * side;
-            /* Planar triangles on the left, then on the right (W&H). */
-            uint32_t l1 = nl + planars, r1 = nr, l2 = nl, r2 = nr + planars;
-            double c1 = b->ct + b->ci * (pl * l1 + pr * r1);
-            double c2 = b->ct + b->ci * (pl * l2 + pr * r2);
-            if (l1 == 0 || r1 == 0) c1 *= b->empty_factor;
-            if (l2 == 0 || r2 == 0) c2 *= b->empty_factor;
-            int planar_left = c1 < c2;
-            double c = planar_left ? c1 : c2;
+            /* Planar triangles on the right, then on the left (W&H); with
+             * none in the plane both costs are the same number. */
+            const uint32_t l2 = nl, r2 = nr + planars;
+            double c = b->ct + b->ci * (pl * l2 + pr * r2);
+            if (l2 == 0 || r2 == 0) c *= b->empty_factor;
+            int planar_left = 0;
+            if (planars) {
+                const uint32_t l1 = nl + planars, r1 = nr;
+                double c1 = b->ct + b->ci * (pl * l1 + pr * r1);
+                if (l1 == 0 || r1 == 0) c1 *= b->empty_factor;
+                planar_left = c1 < c;
+                c = planar_left ? c1 : c;
+            }
             if (c < best->cost) {
                 best->cost = c;
                 best->axis = axis;
@@ -110,7 +115,16 @@ tt_status kd_emit_leaf(kd_builder *b, uint32_t *ids, uint32_t n)
     }
     if (b->ref_count + n > UINT32_MAX)
         return tt_error(b->ctx, TT_ERR_OUT_OF_MEMORY, "kdtree: more than 2^32 triangle references");
-    if (n > 1) qsort(ids, n, sizeof *ids, cmp_u32);
+    /* Most leaves hold a handful of triangles: insertion sort, not qsort's
+     * call per comparison. */
+    if (n > 32) qsort(ids, n, sizeof *ids, cmp_u32);
+    else
+        for (uint32_t i = 1; i < n; i++) {
+            const uint32_t x = ids[i];
+            uint32_t j = i;
+            for (; j > 0 && ids[j - 1] > x; j--) ids[j] = ids[j - 1];
+            ids[j] = x;
+        }
     for (uint32_t i = 0; i < n; i++) b->refs[b->ref_count + i] = ids[i];
     tt_kd_node *node = &b->nodes[b->node_count++];
     node->u.first = (uint32_t)b->ref_count;

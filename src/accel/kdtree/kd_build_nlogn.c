@@ -65,7 +65,7 @@ static uint64_t *axis_list(const nl_lists *l, int axis)
 /* Marks every triangle of the node with its side of the split, from the
  * split axis' events alone (the rule of kd_classify, in event form), in one
  * pass: a triangle's START comes before its END in the sorted list. Counts
- * the one-sided triangles and lists the straddlers in s->ids. */
+ * the one-sided triangles and lists the straddlers in s->ids (marked 0). */
 static uint32_t classify(nl_state *s, const uint64_t *ev, size_t n_ev, const kd_split *sp,
                          uint32_t *n_left, uint32_t *n_right)
 {
@@ -87,10 +87,15 @@ static uint32_t classify(nl_state *s, const uint64_t *ev, size_t n_ev, const kd_
         } else {
             uint8_t side = key < pkey ? KD_SIDE_LEFT : key > pkey ? KD_SIDE_RIGHT : planar_side;
             s->side[t] = side;
-            nl += side == KD_SIDE_LEFT;
-            nr += side == KD_SIDE_RIGHT;
+            _Static_assert(KD_SIDE_LEFT == 1 && KD_SIDE_RIGHT == 2, "side bits");
+            nl += side & KD_SIDE_LEFT;
+            nr += side >> 1; /* KD_SIDE_RIGHT */
         }
     }
+    /* The straddlers' events are not copied to either child (their new
+     * ones are merged in): side 0, so that the copy can add the side's two
+     * bits as the children's counts. */
+    for (uint32_t i = 0; i < nb; i++) s->side[s->ids[i]] = 0;
     *n_left = nl;
     *n_right = nr;
     return nb;
@@ -144,8 +149,9 @@ static int child_lists(nl_state *s, const nl_lists *parent, int depth, uint32_t 
             const uint8_t side = s->side[kd_event_tri(e)];
             ldst[nl] = e;
             rdst[nr] = e;
-            nl += side == KD_SIDE_LEFT;
-            nr += side == KD_SIDE_RIGHT;
+            _Static_assert(KD_SIDE_LEFT == 1 && KD_SIDE_RIGHT == 2, "side bits");
+            nl += side & KD_SIDE_LEFT;
+            nr += side >> 1; /* KD_SIDE_RIGHT */
         }
         kd_merge_in_place(ldst, nl, lclip + 2 * (size_t)nb * k, llen[k]);
         kd_merge_in_place(rdst, nr, rclip + 2 * (size_t)nb * k, rlen[k]);

@@ -18,7 +18,7 @@ typedef struct poly {
 /* Keeps the part with x[axis] >= c (keep_above) or x[axis] <= c. Points on
  * the plane stay, so a triangle lying in a face of the box survives. New
  * vertices get the plane coordinate exactly. */
-static void clip_plane(poly *in, poly *out, int axis, double c, int keep_above)
+static inline void clip_plane(poly *in, poly *out, int axis, double c, int keep_above)
 {
     memcpy(in->v[in->n], in->v[0], sizeof in->v[0]);
     int n = 0;
