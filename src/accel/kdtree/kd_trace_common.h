@@ -225,37 +225,50 @@ TT_HD tt_kd_node TT_VARIANT(tt_kd_descend)(const tt_kd_view *T, const tt_wray *r
     tt_kd_node n = T->nodes[i];
     tt_kd_key te = *texit, te2 = {TT_INF, 3, 0.0f, 0.0f};
     int box_exit = 1;
+    /* tt_kd_cross_err's factors, bit for bit: band |inv_k| and |o_k|. */
+    float bi[3], ao[3];
+    for (int k = 0; k < 3; k++) {
+        bi[k] = TT_KD_BAND * fabsf(r->inv[k]);
+        ao[k] = fabsf(r->org[k]);
+    }
+    const float e_t = tentry->t, e_err = tentry->err;
     (void)stats;
     while (!tt_kd_is_leaf(n.bits)) {
         TT_COUNT(stats, interior, 1);
         TT_COUNT(stats, nodes, 1);
         const int k = tt_kd_axis(n.bits);
         const uint32_t left = tt_kd_left(i, n.bits), right = tt_kd_right(n.bits);
-        const float d = r->dir[k];
+        const float d = r->dir[k], split = n.u.split;
         if (d == 0.0f) {
-            if (r->org[k] < n.u.split) i = left;
-            else if (r->org[k] > n.u.split) i = right;
+            if (r->org[k] < split) i = left;
+            else if (r->org[k] > split) i = right;
             else {
                 *ties |= 1u << k;
                 i = ((ord->sides >> k) & 1u) ? right : left;
             }
         } else {
+            const float ct = (split - r->org[k]) * r->inv[k];
+            const float cerr = bi[k] * (fabsf(split) + ao[k]);
             tt_kd_key c;
-            c.t = (n.u.split - r->org[k]) * r->inv[k];
+            c.t = ct;
             c.rank = ord->rank[k];
-            c.pos = d < 0.0f ? -n.u.split : n.u.split;
-            c.err = tt_kd_cross_err(r, k, n.u.split);
-            if (tt_kd_near(&c, tentry)) {
+            c.pos = d < 0.0f ? -split : split;
+            c.err = cerr;
+            const int near = fabsf(ct - e_t) <= cerr + e_err;
+            if (near) {
                 amb->all++;
                 amb->other += (unsigned)!tt_kd_key_same(&c, tentry);
             }
-            if (tt_kd_key_after(&c, tentry, ties)) {
+            /* tt_kd_key_after's order, its common case (distinct
+             * distances decide alone) written out: keys are whole only
+             * for ties. */
+            if (ct != e_t ? ct > e_t : tt_kd_key_after(&c, tentry, ties)) {
                 i = d < 0.0f ? right : left;
-                if (tt_kd_key_after(&te, &c, ties)) {
+                if (ct < te.t || (ct == te.t && tt_kd_key_after(&te, &c, ties))) {
                     te2 = te;
                     te = c;
                     box_exit = 0;
-                } else if (tt_kd_key_after(&te2, &c, ties)) {
+                } else if (ct < te2.t || (ct == te2.t && tt_kd_key_after(&te2, &c, ties))) {
                     te2 = c;
                 }
             } else {

@@ -217,6 +217,7 @@ TT_HD int TT_VARIANT(tt_kd_stackless_passes)(const tt_kd_view *T, const tt_wray 
                                                     stats);
         if (budget.over) return TT_KD_GAVE_UP;
         if (hit) return 1;
+        if (ties == 0) return 0; /* no tie: the first pass was the only one */
         /* The next untried pass over the ties seen so far. */
         const unsigned perms = (ties & TT_KD_CORNER_TIE) ? 6u : 1u;
         for (pass = 0; pass < 8u * perms; pass++)
