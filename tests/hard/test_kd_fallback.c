@@ -92,11 +92,7 @@ static void add_vertex_rays(hard_rays *s, const tt_scene *scene, size_t n, uint3
 static void run_scene(tt_context *ctx, hard_mesh *m, int expect_heavy)
 {
     tt_scene *scene = hard_scene(ctx, m);
-    tt_build_options bo;
-    tt_build_options_default(&bo);
-    bo.accel = "bruteforce";
-    tt_accel *ref = NULL;
-    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &ref));
+    tt_accel *ref = tt_test_build_default(ctx, scene, "bruteforce");
     hard_rays rays = {0};
     hard_rays_targeted(&rays, scene, 12, 4242u);
     add_vertex_rays(&rays, scene, 150, 99u);

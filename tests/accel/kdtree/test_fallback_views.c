@@ -89,11 +89,8 @@ static void scene_views(tt_context *ctx, const char *file, const char *const *na
                         uint32_t w, uint32_t h)
 {
     tt_scene *scene = tt_test_load_scene(ctx, file);
-    tt_build_options o;
-    tt_build_options_default(&o); /* the tree the measurement above used */
-    o.accel = "kdtree";
-    tt_accel *a = NULL;
-    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &o, &a));
+    /* the tree the measurement above used */
+    tt_accel *a = tt_test_build_default(ctx, scene, "kdtree");
     for (size_t i = 0; i < n; i++) view(ctx, scene, a, names[i], w, h);
     tt_accel_destroy(a);
     tt_scene_destroy(scene);
