@@ -183,7 +183,7 @@ static tt_status build(nl_state *s, nl_lists *lists, uint32_t n, const tt_aabb *
                        const kd_place *here)
 {
     kd_builder *b = s->b;
-    kd_split split = {-1, 0.0f, 0, INFINITY};
+    kd_split split = {-1, 0.0f, 0, INFINITY, 0, 0};
     if (n > 0 && here->depth < b->max_depth)
         for (int k = 0; k < 3; k++) kd_sweep(b, axis_list(lists, k), lists->n[k], n, cell, k, &split);
     if (!kd_should_split(b, n, here->depth, &split)) {
@@ -210,6 +210,7 @@ static tt_status build(nl_state *s, nl_lists *lists, uint32_t n, const tt_aabb *
         size_t llen[3], rlen[3];
         nl += reclip(s, nb, &lcell, lclip, tmp, llen);
         nr += reclip(s, nb, &rcell, rclip, tmp, rlen);
+        kd_account_split(b, n, nl, nr);
         if (!child_lists(s, lists, here->depth + 1, nl, nr, lclip, llen, rclip, rlen, nb, &left,
                          &right))
             st = kd_oom(b);
@@ -266,6 +267,7 @@ tt_status kd_build_nlogn(kd_builder *b, const tt_aabb *root)
         tt_free(b->ctx, tmp);
         tmp = NULL;
         kd_place here = {0, 0, TT_KD_NO_PARENT};
+        b->live = m;
         st = build(&s, &lists, m, root, &here);
     }
     tt_free(b->ctx, tmp);
