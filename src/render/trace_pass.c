@@ -61,9 +61,12 @@ void tt_frame_trace_shadow(tt_frame *f)
     for (long tile = 0; tile < n; tile++) shadow_tile(f, (uint32_t)tile, NULL);
 }
 
+typedef void (*stats_tile_fn)(tt_frame *f, uint32_t tile, tt_ray_stats *sum);
+
 /* Each thread sums into its own tt_ray_stats (no sharing of counters in the
- * hot loop) and adds it to *sum once at the end. */
-void tt_frame_trace_primary_stats(tt_frame *f, tt_ray_stats *sum)
+ * hot loop) and adds it to *sum once at the end. The counting passes are not
+ * the timed ones, so one loop serves both ray kinds through a pointer. */
+static void trace_stats(tt_frame *f, stats_tile_fn tile_fn, tt_ray_stats *sum)
 {
     const long n = tile_count(f);
     memset(sum, 0, sizeof *sum);
@@ -72,23 +75,18 @@ void tt_frame_trace_primary_stats(tt_frame *f, tt_ray_stats *sum)
         tt_ray_stats local;
         memset(&local, 0, sizeof local);
 #pragma omp for schedule(dynamic)
-        for (long tile = 0; tile < n; tile++) primary_tile_stats(f, (uint32_t)tile, &local);
+        for (long tile = 0; tile < n; tile++) tile_fn(f, (uint32_t)tile, &local);
 #pragma omp critical(tt_render_stats_reduce)
         add_stats(sum, &local);
     }
 }
 
+void tt_frame_trace_primary_stats(tt_frame *f, tt_ray_stats *sum)
+{
+    trace_stats(f, primary_tile_stats, sum);
+}
+
 void tt_frame_trace_shadow_stats(tt_frame *f, tt_ray_stats *sum)
 {
-    const long n = tile_count(f);
-    memset(sum, 0, sizeof *sum);
-#pragma omp parallel num_threads(f->threads)
-    {
-        tt_ray_stats local;
-        memset(&local, 0, sizeof local);
-#pragma omp for schedule(dynamic)
-        for (long tile = 0; tile < n; tile++) shadow_tile_stats(f, (uint32_t)tile, &local);
-#pragma omp critical(tt_render_stats_reduce)
-        add_stats(sum, &local);
-    }
+    trace_stats(f, shadow_tile_stats, sum);
 }

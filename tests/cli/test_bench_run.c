@@ -75,13 +75,6 @@ static int col(const char *name)
 static const char *get(const row *r, const char *name) { return r->f[col(name)]; }
 static double num(const row *r, const char *name) { return atof(get(r, name)); }
 
-static int offered(const char *accel)
-{
-    for (const char *const *n = tt_accel_names(); *n; n++)
-        if (strcmp(*n, accel) == 0) return 1;
-    return 0;
-}
-
 typedef struct expect {
     const char *accel, *traversal, *rays, *opt1, *opt2;
 } expect;
@@ -126,7 +119,7 @@ static void check_row(const row *r)
     int ok = strcmp(get(r, "status"), "ok") == 0;
     /* without --device gpu every run is on the CPU, with no copy times */
     CHECK(strcmp(get(r, "device"), "cpu") == 0 && get(r, "upload_s")[0] == '\0');
-    CHECK_MSG(ok == offered(acc), "%s %s: status %s (%s)", acc, get(r, "traversal"),
+    CHECK_MSG(ok == tt_test_has_accel(acc), "%s %s: status %s (%s)", acc, get(r, "traversal"),
               get(r, "status"), get(r, "error"));
     if (!ok) {
         CHECK(strcmp(get(r, "status"), "skipped") == 0);
@@ -232,17 +225,19 @@ static void check_report(const char *out)
     }
     CHECK(exists(out, "fig3-bunny_res4-main-interior.png"));
     CHECK(exists(out, "fig3-cornell-main-time.png"));
-    if (offered("kdtree")) CHECK(exists(out, "heatmaps/cornell-main-kdtree-SLTR-dmin4-16x12.png"));
-    if (offered("rtree")) CHECK(exists(out, "heatmaps/cornell-main-rtree-ordered-16x12.png"));
+    if (tt_test_has_accel("kdtree"))
+        CHECK(exists(out, "heatmaps/cornell-main-kdtree-SLTR-dmin4-16x12.png"));
+    if (tt_test_has_accel("rtree"))
+        CHECK(exists(out, "heatmaps/cornell-main-rtree-ordered-16x12.png"));
     /* structures missing from this build are named as skipped */
-    if (!offered("rtree")) CHECK(strstr(md, "rtree: not in this build") != NULL);
-    if (!offered("kdtree")) CHECK(strstr(md, "kdtree: not in this build") != NULL);
+    if (!tt_test_has_accel("rtree")) CHECK(strstr(md, "rtree: not in this build") != NULL);
+    if (!tt_test_has_accel("kdtree")) CHECK(strstr(md, "kdtree: not in this build") != NULL);
     free(md);
 }
 
 int main(void)
 {
-    if (!offered("embree")) {
+    if (!tt_test_has_accel("embree")) {
         printf("skipped: this build has no Embree, the benchmark's reference\n");
         return 77;
     }

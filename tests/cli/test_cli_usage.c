@@ -106,16 +106,9 @@ static void test_usage_errors(void)
 
 /* Options of the structures, when they are in the build: values are
  * checked against the chosen --accel. */
-static int has(const char *name)
-{
-    for (const char *const *n = tt_accel_names(); *n; n++)
-        if (strcmp(*n, name) == 0) return 1;
-    return 0;
-}
-
 static void test_structure_option_errors(void)
 {
-    if (has("rtree")) {
+    if (tt_test_has_accel("rtree")) {
         expect_status(2, "'best'", "render --accel rtree --strategy best");
         expect_status(2, "--M: 17", "render --accel rtree --M 17");
         expect_status(2, "--m: 1", "render --accel rtree --m 1");
@@ -129,7 +122,7 @@ static void test_structure_option_errors(void)
         expect_status(2, "'htr'", "render --accel rtree --traversal htr");
         expect_status(2, "--dmin", "render --accel rtree --dmin 2");
     }
-    if (has("kdtree")) {
+    if (tt_test_has_accel("kdtree")) {
         expect_status(2, "'nlogn2'", "render --accel kdtree --kd-build nlogn2");
         expect_status(2, "--dmin: 0", "render --accel kdtree --dmin 0");
         expect_status(2, "--ct: -1", "render --accel kdtree --ct -1");
@@ -171,7 +164,7 @@ static void test_runtime_errors(void)
     }
     snprintf(args, sizeof args, "info '%s' --accel bruteforce", tt_cli_tmp("garbage.ply"));
     expect_status(1, "garbage.ply", args);
-    if (!has("embree")) {
+    if (!tt_test_has_accel("embree")) {
         snprintf(args, sizeof args, "info '%s' --accel embree", scene);
         expect_status(1, "embree", args);
     }

@@ -45,3 +45,20 @@ void tt_test_view(tt_context *ctx, const char *name, tt_camera *out)
 {
     REQUIRE_OK(ctx, tt_view_find(ctx, tt_test_scene_path("views.tsv"), name, out));
 }
+
+int tt_test_has_accel(const char *name)
+{
+    for (const char *const *n = tt_accel_names(); *n; n++)
+        if (strcmp(*n, name) == 0) return 1;
+    return 0;
+}
+
+tt_accel *tt_test_build_default(tt_context *ctx, const tt_scene *scene, const char *name)
+{
+    tt_build_options opt;
+    tt_build_options_default(&opt);
+    opt.accel = name;
+    tt_accel *a = NULL;
+    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &opt, &a));
+    return a;
+}

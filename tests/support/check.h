@@ -62,4 +62,10 @@ tt_scene *tt_test_load_scene(tt_context *ctx, const char *file);
 /* Finds a view in the shared views.tsv ("bunny:main"). */
 void tt_test_view(tt_context *ctx, const char *name, tt_camera *out);
 
+/* Whether this build has the structure `name` (optional back ends such as
+ * embree may be missing). */
+int tt_test_has_accel(const char *name);
+/* Builds structure `name` with default options, failing the test on error. */
+tt_accel *tt_test_build_default(tt_context *ctx, const tt_scene *scene, const char *name);
+
 #endif

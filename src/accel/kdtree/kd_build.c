@@ -41,28 +41,63 @@ void kd_sweep(const kd_builder *b, const uint64_t *ev, size_t n_ev, uint32_t n,
         if (p > cell->lo[axis] && p < cell->hi[axis]) {
             const double pl = cap + ((double)p - lo) * side;
             const double pr = cap + (hi - (double)p) * side;
-            /* Planar triangles on the left, then on the right (W&H). */
-            uint32_t l1 = nl + planars, r1 = nr, l2 = nl, r2 = nr + planars;
-            double c1 = b->ct + b->ci * (pl * l1 + pr * r1);
-            double c2 = b->ct + b->ci * (pl * l2 + pr * r2);
-            if (l1 == 0 || r1 == 0) c1 *= b->empty_factor;
-            if (l2 == 0 || r2 == 0) c2 *= b->empty_factor;
-            int planar_left = c1 < c2;
-            double c = planar_left ? c1 : c2;
+            /* Planar triangles on the right, then on the left (W&H); with
+             * none in the plane both costs are the same number. */
+            uint32_t l2 = nl, r2 = nr + planars;
+            double c = b->ct + b->ci * (pl * l2 + pr * r2);
+            if (l2 == 0 || r2 == 0) c *= b->empty_factor;
+            int planar_left = 0;
+            if (planars) {
+                const uint32_t l1 = nl + planars, r1 = nr;
+                double c1 = b->ct + b->ci * (pl * l1 + pr * r1);
+                if (l1 == 0 || r1 == 0) c1 *= b->empty_factor;
+                planar_left = c1 < c;
+                if (planar_left) {
+                    c = c1;
+                    l2 = l1;
+                    r2 = r1;
+                }
+            }
             if (c < best->cost) {
                 best->cost = c;
                 best->axis = axis;
                 best->pos = p;
                 best->planar_left = planar_left;
+                best->n_left = l2;
+                best->n_right = r2;
             }
         }
         nl += starts + planars;
     }
 }
 
-int kd_should_split(const kd_builder *b, uint32_t n, int depth, const kd_split *best)
+/* The SAH prices rays, not memory. Where a split's two children together
+ * are no more likely to be visited than the parent (a flat cell: p_l + p_r
+ * = 1), duplicating a straddler costs nothing in the model, so on many
+ * large overlapping triangles in one plane every split that separates a
+ * few of them pays and the greedy recursion runs to the depth limit with
+ * the references multiplying at every level (2000 such triangles: 266 M
+ * references, minutes of build). The budget bounds that: a split whose
+ * children would take the tree past it becomes a leaf. It is far above
+ * what real scenes use (the shared ones: 4-5 references per triangle), so
+ * it changes no tree there, and both builders apply it at the same nodes
+ * in the same order, so they still build the same tree. */
+size_t kd_ref_budget(uint32_t n) { return 64 * (size_t)n + ((size_t)1 << 20); }
+
+int kd_should_split(kd_builder *b, uint32_t n, int depth, const kd_split *best)
 {
-    return n > 0 && depth < b->max_depth && best->axis >= 0 && best->cost < b->ci * (double)n;
+    if (!(n > 0 && depth < b->max_depth && best->axis >= 0 && best->cost < b->ci * (double)n))
+        return 0;
+    if (b->live - n + best->n_left + best->n_right > b->ref_budget) {
+        b->budget_hit = 1;
+        return 0;
+    }
+    return 1;
+}
+
+void kd_account_split(kd_builder *b, uint32_t n, uint32_t nl, uint32_t nr)
+{
+    b->live = b->live - n + nl + nr;
 }
 
 void kd_split_cell(const tt_aabb *cell, const kd_split *s, tt_aabb *left, tt_aabb *right)
@@ -110,7 +145,16 @@ tt_status kd_emit_leaf(kd_builder *b, uint32_t *ids, uint32_t n)
     }
     if (b->ref_count + n > UINT32_MAX)
         return tt_error(b->ctx, TT_ERR_OUT_OF_MEMORY, "kdtree: more than 2^32 triangle references");
-    if (n > 1) qsort(ids, n, sizeof *ids, cmp_u32);
+    /* Most leaves hold a handful of triangles: insertion sort, not qsort's
+     * call per comparison. */
+    if (n > 32) qsort(ids, n, sizeof *ids, cmp_u32);
+    else
+        for (uint32_t i = 1; i < n; i++) {
+            const uint32_t x = ids[i];
+            uint32_t j = i;
+            for (; j > 0 && ids[j - 1] > x; j--) ids[j] = ids[j - 1];
+            ids[j] = x;
+        }
     for (uint32_t i = 0; i < n; i++) b->refs[b->ref_count + i] = ids[i];
     tt_kd_node *node = &b->nodes[b->node_count++];
     node->u.first = (uint32_t)b->ref_count;

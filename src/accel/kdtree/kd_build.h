@@ -21,6 +21,9 @@ typedef struct kd_split {
     float pos;
     int planar_left; /* triangles lying in the plane go left (1) or right */
     double cost;
+    /* The children's triangle counts as the sweep sees them: the
+     * straddlers in both. Re-clipping may drop some, never add. */
+    uint32_t n_left, n_right;
 } kd_split;
 
 /* Where a node sits: depth, distance to its nearest augmented ancestor (in
@@ -37,6 +40,11 @@ typedef struct kd_builder {
     uint32_t tri_count;
     double ct, ci, empty_factor;
     int max_depth, dmin;
+    /* The reference budget (see kd_should_split): `live` counts the
+     * references emitted plus those of the nodes still to be built, exactly
+     * (kd_account_split keeps it). */
+    size_t ref_budget, live;
+    int budget_hit;
     /* output, grown as the depth-first recursion emits nodes */
     tt_kd_node *nodes;
     uint32_t node_count, node_cap;
@@ -52,8 +60,13 @@ typedef struct kd_builder {
 void kd_sweep(const kd_builder *b, const uint64_t *ev, size_t n_ev, uint32_t n,
               const tt_aabb *cell, int axis, kd_split *best);
 
-/* Whether the best split pays (cost below the leaf's C_I * n) at this depth. */
-int kd_should_split(const kd_builder *b, uint32_t n, int depth, const kd_split *best);
+/* Whether the best split pays (cost below the leaf's C_I * n) at this depth,
+ * and its children fit the reference budget. */
+int kd_should_split(kd_builder *b, uint32_t n, int depth, const kd_split *best);
+/* Records that a node of n triangles was split into children of nl and nr. */
+void kd_account_split(kd_builder *b, uint32_t n, uint32_t nl, uint32_t nr);
+/* The budget of references for a scene of n triangles. */
+size_t kd_ref_budget(uint32_t n);
 
 /* Side of a triangle whose clipped bounds on the split axis are [lo, hi]. */
 static inline int kd_classify(float lo, float hi, const kd_split *s)

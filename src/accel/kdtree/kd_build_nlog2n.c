@@ -23,12 +23,17 @@ typedef struct n2_state {
 
 static kd_split find_split(n2_state *s, const item *items, uint32_t n, const tt_aabb *cell)
 {
-    kd_split best = {-1, 0.0f, 0, INFINITY};
+    kd_split best = {-1, 0.0f, 0, INFINITY, 0, 0};
     for (int axis = 0; axis < 3; axis++) {
         size_t m = 0;
         for (uint32_t i = 0; i < n; i++)
             m += kd_events_of(s->ev + m, items[i].box.lo[axis], items[i].box.hi[axis], items[i].tri);
-        kd_radix_sort_events(s->ev, s->tmp, m);
+        /* A comparison sort, as the algorithm's name says: O(n log n) per
+         * node, O(N log^2 N) in all. A radix sort here would make this an
+         * O(N log N) builder too (with a bigger constant than the one that
+         * sorts once), and the two would no longer be the algorithms the
+         * issue and W&H compare. */
+        kd_sort_events(s->ev, s->tmp, m);
         kd_sweep(s->b, s->ev, m, n, cell, axis, &best);
     }
     return best;
@@ -39,7 +44,7 @@ static tt_status build(n2_state *s, item *items, uint32_t n, const tt_aabb *cell
                        const kd_place *here)
 {
     kd_builder *b = s->b;
-    kd_split split = {-1, 0.0f, 0, INFINITY};
+    kd_split split = {-1, 0.0f, 0, INFINITY, 0, 0};
     if (n > 0 && here->depth < b->max_depth) split = find_split(s, items, n, cell);
     if (!kd_should_split(b, n, here->depth, &split)) {
         for (uint32_t i = 0; i < n; i++) s->ids[i] = items[i].tri;
@@ -77,6 +82,7 @@ static tt_status build(n2_state *s, item *items, uint32_t n, const tt_aabb *cell
         }
     }
     tt_free(b->ctx, items);
+    kd_account_split(b, n, nl, nr);
     uint32_t node;
     kd_place child;
     tt_status st = kd_emit_interior(b, &split, cell, here, &node, &child);
@@ -113,6 +119,7 @@ tt_status kd_build_nlog2n(kd_builder *b, const tt_aabb *root)
             if (kd_clip_triangle(b->tri + 9 * (size_t)i, root, &items[m].box)) m++;
         }
         kd_place here = {0, 0, TT_KD_NO_PARENT};
+        b->live = m;
         st = build(&s, items, m, root, &here);
     }
     tt_free(b->ctx, s.ev);

@@ -7,17 +7,53 @@
 #include "accel/kdtree/kd_build.h"
 #include "accel/kdtree/kd_clip.h"
 
+/* Most nodes are small and were each paying for several malloc/free
+ * pairs. Their event blocks come from reusable buffers instead: the
+ * recursion is depth first, so when a node at depth d makes its children's
+ * blocks, every earlier node at depth d + 1 is finished and its buffer is
+ * free; one buffer per depth for left children and one for right children
+ * suffices. Blocks larger than a buffer (the few big nodes near the root)
+ * are allocated on their own, which keeps the buffers' memory bounded:
+ * 2 (max_depth + 1) buffers of POOL_EVENTS events. */
+#define POOL_EVENTS 8192u
+
 typedef struct nl_state {
     kd_builder *b;
-    uint8_t *side; /* per triangle: KD_SIDE_* of the split being applied */
-    uint32_t *ids; /* straddlers of a split, or a leaf's triangles        */
+    uint8_t *side;   /* per triangle: KD_SIDE_* of the split being applied */
+    uint32_t *ids;   /* straddlers of a split, or a leaf's triangles        */
+    uint64_t **pool; /* [depth][left, right]: buffers of POOL_EVENTS, made
+                      * when first needed                                  */
+    uint64_t *clip;  /* straddlers' events: 14 per straddler, grown        */
+    size_t clip_cap;
 } nl_state;
 
 /* Events of one node: the three axes' sorted lists in one block. */
 typedef struct nl_lists {
     uint64_t *block;
     size_t n[3];
+    int owned; /* allocated for this node alone (else a pool buffer) */
 } nl_lists;
+
+/* A block of n events for a child at this depth (which: 0 left, 1 right). */
+static int get_block(nl_state *s, int depth, int which, size_t n, nl_lists *l)
+{
+    if (n > POOL_EVENTS) {
+        l->block = tt_alloc_array(s->b->ctx, n, sizeof *l->block);
+        l->owned = 1;
+        return l->block != NULL;
+    }
+    uint64_t **slot = &s->pool[2 * depth + which];
+    if (!*slot) *slot = tt_alloc_array(s->b->ctx, POOL_EVENTS, sizeof **slot);
+    l->block = *slot;
+    l->owned = 0;
+    return l->block != NULL;
+}
+
+static void put_block(nl_state *s, nl_lists *l)
+{
+    if (l->owned) tt_free(s->b->ctx, l->block);
+    l->block = NULL;
+}
 
 static uint64_t *axis_list(const nl_lists *l, int axis)
 {
@@ -29,7 +65,7 @@ static uint64_t *axis_list(const nl_lists *l, int axis)
 /* Marks every triangle of the node with its side of the split, from the
  * split axis' events alone (the rule of kd_classify, in event form), in one
  * pass: a triangle's START comes before its END in the sorted list. Counts
- * the one-sided triangles and lists the straddlers in s->ids. */
+ * the one-sided triangles and lists the straddlers in s->ids (marked 0). */
 static uint32_t classify(nl_state *s, const uint64_t *ev, size_t n_ev, const kd_split *sp,
                          uint32_t *n_left, uint32_t *n_right)
 {
@@ -51,10 +87,15 @@ static uint32_t classify(nl_state *s, const uint64_t *ev, size_t n_ev, const kd_
         } else {
             uint8_t side = key < pkey ? KD_SIDE_LEFT : key > pkey ? KD_SIDE_RIGHT : planar_side;
             s->side[t] = side;
-            nl += side == KD_SIDE_LEFT;
-            nr += side == KD_SIDE_RIGHT;
+            _Static_assert(KD_SIDE_LEFT == 1 && KD_SIDE_RIGHT == 2, "side bits");
+            nl += side & KD_SIDE_LEFT;
+            nr += side >> 1; /* KD_SIDE_RIGHT */
         }
     }
+    /* The straddlers' events are not copied to either child (their new
+     * ones are merged in): side 0, so that the copy can add the side's two
+     * bits as the children's counts. */
+    for (uint32_t i = 0; i < nb; i++) s->side[s->ids[i]] = 0;
     *n_left = nl;
     *n_right = nr;
     return nb;
@@ -86,22 +127,31 @@ static uint32_t reclip(nl_state *s, uint32_t nb, const tt_aabb *cell, uint64_t *
  * of one-sided triangles (their order kept) merged with the re-clipped
  * straddlers' events. Each child's run for an axis is sized for the worst
  * case, two events per triangle, so the split needs no counting pass. */
-static int child_lists(nl_state *s, const nl_lists *parent, uint32_t n_left, uint32_t n_right,
-                       const uint64_t *lclip, const size_t llen[3], const uint64_t *rclip,
-                       const size_t rlen[3], uint32_t nb, nl_lists *left, nl_lists *right)
+static int child_lists(nl_state *s, const nl_lists *parent, int depth, uint32_t n_left,
+                       uint32_t n_right, const uint64_t *lclip, const size_t llen[3],
+                       const uint64_t *rclip, const size_t rlen[3], uint32_t nb, nl_lists *left,
+                       nl_lists *right)
 {
     const size_t lcap = 2 * (size_t)n_left, rcap = 2 * (size_t)n_right;
-    left->block = tt_alloc_array(s->b->ctx, 3 * lcap, sizeof *left->block);
-    right->block = tt_alloc_array(s->b->ctx, 3 * rcap, sizeof *right->block);
-    if (!left->block || !right->block) return 0;
+    /* One slot more than the runs need: the filter below writes every
+     * event to both children and advances only the side it belongs to. */
+    if (!get_block(s, depth, 0, 3 * lcap + 1, left) || !get_block(s, depth, 1, 3 * rcap + 1, right))
+        return 0;
     uint64_t *ldst = left->block, *rdst = right->block;
     for (int k = 0; k < 3; k++) {
         const uint64_t *ev = axis_list(parent, k);
         size_t nl = 0, nr = 0;
+        /* Branch-free: the sides come in no predictable order. A store past
+         * a run's end lands in the next axis' space (overwritten later) or
+         * in the spare slot. */
         for (size_t i = 0; i < parent->n[k]; i++) {
-            const uint8_t side = s->side[kd_event_tri(ev[i])];
-            if (side == KD_SIDE_LEFT) ldst[nl++] = ev[i];
-            else if (side == KD_SIDE_RIGHT) rdst[nr++] = ev[i];
+            const uint64_t e = ev[i];
+            const uint8_t side = s->side[kd_event_tri(e)];
+            ldst[nl] = e;
+            rdst[nr] = e;
+            _Static_assert(KD_SIDE_LEFT == 1 && KD_SIDE_RIGHT == 2, "side bits");
+            nl += side & KD_SIDE_LEFT;
+            nr += side >> 1; /* KD_SIDE_RIGHT */
         }
         kd_merge_in_place(ldst, nl, lclip + 2 * (size_t)nb * k, llen[k]);
         kd_merge_in_place(rdst, nr, rclip + 2 * (size_t)nb * k, rlen[k]);
@@ -113,12 +163,27 @@ static int child_lists(nl_state *s, const nl_lists *parent, uint32_t n_left, uin
     return 1;
 }
 
-/* Consumes (frees) lists->block. */
+/* Room for the straddlers' events: for each of nb straddlers, 6 (2 per
+ * axis) for each child and 2 of sort scratch. */
+static int clip_room(nl_state *s, uint32_t nb)
+{
+    const size_t need = 14 * (size_t)nb;
+    if (need <= s->clip_cap) return 1;
+    size_t cap = s->clip_cap ? s->clip_cap : 1024;
+    while (cap < need) cap *= 2;
+    uint64_t *p = tt_realloc_array(s->b->ctx, s->clip, cap, sizeof *p);
+    if (!p) return 0;
+    s->clip = p;
+    s->clip_cap = cap;
+    return 1;
+}
+
+/* Consumes (releases) lists->block. */
 static tt_status build(nl_state *s, nl_lists *lists, uint32_t n, const tt_aabb *cell,
                        const kd_place *here)
 {
     kd_builder *b = s->b;
-    kd_split split = {-1, 0.0f, 0, INFINITY};
+    kd_split split = {-1, 0.0f, 0, INFINITY, 0, 0};
     if (n > 0 && here->depth < b->max_depth)
         for (int k = 0; k < 3; k++) kd_sweep(b, axis_list(lists, k), lists->n[k], n, cell, k, &split);
     if (!kd_should_split(b, n, here->depth, &split)) {
@@ -126,7 +191,7 @@ static tt_status build(nl_state *s, nl_lists *lists, uint32_t n, const tt_aabb *
         const uint64_t *ev = axis_list(lists, 0);
         for (size_t i = 0; i < lists->n[0]; i++)
             if (kd_event_type(ev[i]) != KD_END) s->ids[m++] = kd_event_tri(ev[i]);
-        tt_free(b->ctx, lists->block);
+        put_block(s, lists);
         return kd_emit_leaf(b, s->ids, m);
     }
     const uint64_t *ev = axis_list(lists, split.axis);
@@ -135,33 +200,33 @@ static tt_status build(nl_state *s, nl_lists *lists, uint32_t n, const tt_aabb *
     const uint32_t nb = classify(s, ev, n_ev, &split, &nl, &nr);
     tt_aabb lcell, rcell;
     kd_split_cell(cell, &split, &lcell, &rcell);
-    /* Straddlers' events: left runs, right runs, sort scratch. */
-    uint64_t *clip = tt_alloc_array(b->ctx, 14 * (size_t)nb, sizeof *clip);
-    nl_lists left = {NULL, {0, 0, 0}}, right = {NULL, {0, 0, 0}};
+    nl_lists left = {NULL, {0, 0, 0}, 0}, right = {NULL, {0, 0, 0}, 0};
     tt_status st = TT_OK;
-    if (!clip) {
+    if (!clip_room(s, nb)) {
         st = kd_oom(b);
     } else {
-        uint64_t *lclip = clip, *rclip = clip + 6 * (size_t)nb, *tmp = clip + 12 * (size_t)nb;
+        /* Straddlers' events: left runs, right runs, sort scratch. */
+        uint64_t *lclip = s->clip, *rclip = s->clip + 6 * (size_t)nb, *tmp = s->clip + 12 * (size_t)nb;
         size_t llen[3], rlen[3];
         nl += reclip(s, nb, &lcell, lclip, tmp, llen);
         nr += reclip(s, nb, &rcell, rclip, tmp, rlen);
-        if (!child_lists(s, lists, nl, nr, lclip, llen, rclip, rlen, nb, &left, &right))
+        kd_account_split(b, n, nl, nr);
+        if (!child_lists(s, lists, here->depth + 1, nl, nr, lclip, llen, rclip, rlen, nb, &left,
+                         &right))
             st = kd_oom(b);
     }
-    tt_free(b->ctx, clip);
-    tt_free(b->ctx, lists->block);
+    put_block(s, lists);
     uint32_t node = 0;
     kd_place child;
     if (st == TT_OK) st = kd_emit_interior(b, &split, cell, here, &node, &child);
     if (st != TT_OK) {
-        tt_free(b->ctx, left.block);
-        tt_free(b->ctx, right.block);
+        put_block(s, &left);
+        put_block(s, &right);
         return st;
     }
     st = build(s, &left, nl, &lcell, &child);
     if (st != TT_OK) {
-        tt_free(b->ctx, right.block);
+        put_block(s, &right);
         return st;
     }
     kd_link_right(b, node);
@@ -171,14 +236,15 @@ static tt_status build(nl_state *s, nl_lists *lists, uint32_t n, const tt_aabb *
 tt_status kd_build_nlogn(kd_builder *b, const tt_aabb *root)
 {
     const uint32_t n = b->tri_count;
-    nl_state s = {b, NULL, NULL};
-    nl_lists lists = {NULL, {0, 0, 0}};
+    nl_state s = {b, NULL, NULL, NULL, NULL, 0};
+    nl_lists lists = {NULL, {0, 0, 0}, 1};
     s.side = tt_alloc_array(b->ctx, n, sizeof *s.side);
     s.ids = tt_alloc_array(b->ctx, n, sizeof *s.ids);
+    s.pool = tt_calloc(b->ctx, 2 * ((size_t)b->max_depth + 1), sizeof *s.pool);
     lists.block = tt_alloc_array(b->ctx, 6 * (size_t)n, sizeof *lists.block);
     uint64_t *tmp = tt_alloc_array(b->ctx, 2 * (size_t)n, sizeof *tmp);
     tt_status st;
-    if (!s.side || !s.ids || !lists.block || !tmp) {
+    if (!s.side || !s.ids || !s.pool || !lists.block || !tmp) {
         tt_free(b->ctx, lists.block);
         st = kd_oom(b);
     } else {
@@ -201,10 +267,15 @@ tt_status kd_build_nlogn(kd_builder *b, const tt_aabb *root)
         tt_free(b->ctx, tmp);
         tmp = NULL;
         kd_place here = {0, 0, TT_KD_NO_PARENT};
+        b->live = m;
         st = build(&s, &lists, m, root, &here);
     }
     tt_free(b->ctx, tmp);
     tt_free(b->ctx, s.side);
     tt_free(b->ctx, s.ids);
+    tt_free(b->ctx, s.clip);
+    if (s.pool)
+        for (size_t i = 0; i < 2 * ((size_t)b->max_depth + 1); i++) tt_free(b->ctx, s.pool[i]);
+    tt_free(b->ctx, s.pool);
     return st;
 }

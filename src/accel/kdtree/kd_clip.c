@@ -9,27 +9,33 @@
 #define MAX_POLY KD_CLIP_MAX
 
 typedef struct poly {
-    double v[MAX_POLY][3];
+    /* One slot more: the first vertex is repeated after the last, so that
+     * every edge is (v[i], v[i + 1]) with no wrap-around index. */
+    double v[MAX_POLY + 1][3];
     int n;
 } poly;
 
-/* Keeps the part with sign * (x[axis] - c) >= 0. Points on the plane stay,
- * so a triangle lying in a face of the box survives. New vertices get the
- * plane coordinate exactly. */
-static void clip_plane(const poly *in, poly *out, int axis, double c, double sign)
+/* Keeps the part with x[axis] >= c (keep_above) or x[axis] <= c. Points on
+ * the plane stay, so a triangle lying in a face of the box survives. New
+ * vertices get the plane coordinate exactly. */
+static inline void clip_plane(poly *in, poly *out, int axis, double c, int keep_above)
 {
-    out->n = 0;
+    memcpy(in->v[in->n], in->v[0], sizeof in->v[0]);
+    int n = 0;
+    int ina = keep_above ? in->v[0][axis] >= c : in->v[0][axis] <= c;
     for (int i = 0; i < in->n; i++) {
-        const double *a = in->v[i], *b = in->v[(i + 1) % in->n];
-        int ina = sign * (a[axis] - c) >= 0.0, inb = sign * (b[axis] - c) >= 0.0;
-        if (ina) memcpy(out->v[out->n++], a, sizeof out->v[0]);
+        const double *a = in->v[i], *b = in->v[i + 1];
+        const int inb = keep_above ? b[axis] >= c : b[axis] <= c;
+        if (ina) memcpy(out->v[n++], a, sizeof out->v[0]);
         if (ina != inb) {
             double t = (c - a[axis]) / (b[axis] - a[axis]);
-            double *p = out->v[out->n++];
+            double *p = out->v[n++];
             for (int k = 0; k < 3; k++) p[k] = a[k] + t * (b[k] - a[k]);
             p[axis] = c;
         }
+        ina = inb;
     }
+    out->n = n;
 }
 
 /* fmin/fmax without NaN handling (none can occur here); the libm calls
@@ -64,43 +70,66 @@ static float round_up(double d)
     return ((double)f < d) ? step_float(f, 1) : f;
 }
 
+/* Clips the triangle held in a (whose bounds are tlo, thi and touch the
+ * box) to the box; returns the resulting polygon, a or b. Planes the
+ * polygon does not cross are skipped (exactly the same polygon, fewer
+ * rounding steps). Until a plane cuts, the polygon is the triangle and its
+ * bounds are known. */
+static const poly *clip_to_box(poly *a, poly *b, const double tlo[3], const double thi[3],
+                               const double lo[3], const double hi[3])
+{
+    poly *cur = a, *next = b;
+    int cut = 0;
+    for (int k = 0; k < 3; k++) {
+        double plo = tlo[k], phi = thi[k];
+        if (cut) {
+            plo = INFINITY;
+            phi = -INFINITY;
+            for (int i = 0; i < cur->n; i++) {
+                plo = dmin(plo, cur->v[i][k]);
+                phi = dmax(phi, cur->v[i][k]);
+            }
+        }
+        if (plo < lo[k]) {
+            clip_plane(cur, next, k, lo[k], 1);
+            poly *t = cur;
+            cur = next;
+            next = t;
+            cut = 1;
+        }
+        if (phi > hi[k]) {
+            clip_plane(cur, next, k, hi[k], 0);
+            poly *t = cur;
+            cur = next;
+            next = t;
+            cut = 1;
+        }
+        if (cur->n == 0) break;
+    }
+    return cur;
+}
+
+static void load_triangle(const float *tri, poly *a)
+{
+    a->n = 3;
+    for (int i = 0; i < 3; i++)
+        for (int k = 0; k < 3; k++) a->v[i][k] = tri[3 * i + k];
+}
+
 int kd_clip_polygon(const float *tri, const double lo[3], const double hi[3],
                     double out[KD_CLIP_MAX][3])
 {
     poly a, b;
-    a.n = 3;
-    for (int i = 0; i < 3; i++)
-        for (int k = 0; k < 3; k++) a.v[i][k] = tri[3 * i + k];
+    load_triangle(tri, &a);
+    double tlo[3], thi[3];
     for (int k = 0; k < 3; k++) {
-        double tlo = dmin(dmin(a.v[0][k], a.v[1][k]), a.v[2][k]);
-        double thi = dmax(dmax(a.v[0][k], a.v[1][k]), a.v[2][k]);
-        if (thi < lo[k] || tlo > hi[k]) return 0;
+        tlo[k] = dmin(dmin(a.v[0][k], a.v[1][k]), a.v[2][k]);
+        thi[k] = dmax(dmax(a.v[0][k], a.v[1][k]), a.v[2][k]);
+        if (thi[k] < lo[k] || tlo[k] > hi[k]) return 0;
     }
-    /* Planes the triangle does not cross are skipped (exactly the same
-     * polygon, fewer rounding steps). The two polygons take turns. */
-    poly *cur = &a, *next = &b;
-    for (int k = 0; k < 3; k++) {
-        double tlo = INFINITY, thi = -INFINITY;
-        for (int i = 0; i < cur->n; i++) {
-            tlo = dmin(tlo, cur->v[i][k]);
-            thi = dmax(thi, cur->v[i][k]);
-        }
-        if (tlo < lo[k]) {
-            clip_plane(cur, next, k, lo[k], 1.0);
-            poly *t = cur;
-            cur = next;
-            next = t;
-        }
-        if (thi > hi[k]) {
-            clip_plane(cur, next, k, hi[k], -1.0);
-            poly *t = cur;
-            cur = next;
-            next = t;
-        }
-        if (cur->n == 0) return 0;
-    }
-    memcpy(out, cur->v, (size_t)cur->n * sizeof cur->v[0]);
-    return cur->n;
+    const poly *p = clip_to_box(&a, &b, tlo, thi, lo, hi);
+    memcpy(out, p->v, (size_t)p->n * sizeof p->v[0]);
+    return p->n;
 }
 
 int kd_clip_triangle(const float *tri, const tt_aabb *box, tt_aabb *out)
@@ -120,18 +149,22 @@ int kd_clip_triangle(const float *tri, const tt_aabb *box, tt_aabb *out)
         *out = tb;
         return 1;
     }
-    double lo[3], hi[3], v[KD_CLIP_MAX][3];
+    double lo[3], hi[3], tlo[3], thi[3];
     for (int k = 0; k < 3; k++) {
         lo[k] = box->lo[k];
         hi[k] = box->hi[k];
+        tlo[k] = tb.lo[k];
+        thi[k] = tb.hi[k];
     }
-    int n = kd_clip_polygon(tri, lo, hi, v);
-    if (n == 0) return 0;
+    poly a, b;
+    load_triangle(tri, &a);
+    const poly *p = clip_to_box(&a, &b, tlo, thi, lo, hi);
+    if (p->n == 0) return 0;
     double plo[3] = {INFINITY, INFINITY, INFINITY}, phi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int i = 0; i < n; i++)
+    for (int i = 0; i < p->n; i++)
         for (int k = 0; k < 3; k++) {
-            plo[k] = dmin(plo[k], v[i][k]);
-            phi[k] = dmax(phi[k], v[i][k]);
+            plo[k] = dmin(plo[k], p->v[i][k]);
+            phi[k] = dmax(phi[k], p->v[i][k]);
         }
     for (int k = 0; k < 3; k++) {
         /* Interpolated coordinates may stray a rounding error outside the

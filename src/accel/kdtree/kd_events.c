@@ -21,7 +21,15 @@ static void insertion_sort(uint64_t *a, size_t n)
 void kd_merge_events(const uint64_t *a, size_t n_a, const uint64_t *b, size_t n_b, uint64_t *out)
 {
     size_t i = 0, j = 0, k = 0;
-    while (i < n_a && j < n_b) out[k++] = (b[j] < a[i]) ? b[j++] : a[i++];
+    /* Without a data-dependent branch: which run the next key comes from
+     * is a coin toss on the builders' inputs. */
+    while (i < n_a && j < n_b) {
+        const uint64_t x = a[i], y = b[j];
+        const int take_b = y < x;
+        out[k++] = take_b ? y : x;
+        j += take_b;
+        i += !take_b;
+    }
     while (i < n_a) out[k++] = a[i++];
     while (j < n_b) out[k++] = b[j++];
 }
@@ -60,10 +68,19 @@ void kd_merge_in_place(uint64_t *run, size_t n_run, const uint64_t *b, size_t n_
 {
     if (n_b == 0) return;
     if (n_b * 32 > n_run) {
-        /* Not that short: a plain merge from the run moved to the tail (the
-         * write index never passes the read index of the tail). */
-        memmove(run + n_b, run, n_run * sizeof *run);
-        kd_merge_events(run + n_b, n_run, b, n_b, run);
+        /* Not that short: a plain merge from the back into the free room at
+         * the end (the write index stays above the run's read index), which
+         * stops when b is used up: the run's keys below b's smallest stay
+         * where they are. Branch-free, like kd_merge_events. */
+        size_t i = n_run, j = n_b, k = n_run + n_b;
+        while (i > 0 && j > 0) {
+            const uint64_t x = run[i - 1], y = b[j - 1];
+            const int take_run = x > y;
+            run[--k] = take_run ? x : y;
+            i -= take_run;
+            j -= !take_run;
+        }
+        while (j > 0) run[--k] = b[--j];
         return;
     }
     size_t hi = n_run;

@@ -63,8 +63,9 @@ static inline size_t kd_events_of(uint64_t *out, float lo, float hi, uint32_t tr
 }
 
 /* Comparison sort (O(n log n), stable merge sort; tmp holds n keys). The
- * O(N log^2 N) builder calls it at every node, the O(N log N) builder once
- * at the root and for the few re-clipped triangles of each split. */
+ * O(N log^2 N) builder calls it at every node; the O(N log N) builder
+ * reaches it through kd_radix_sort_events for the short lists of the
+ * re-clipped triangles of each split. */
 void kd_sort_events(uint64_t *keys, uint64_t *tmp, size_t n);
 
 /* Stable LSD radix sort on the position and type bits only (3 passes of a

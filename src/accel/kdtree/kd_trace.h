@@ -61,8 +61,11 @@ TT_HD int TT_VARIANT(tt_kd_probe)(const tt_kd_view *T, int traversal, const tt_w
     if (traversal == TT_KD_SLTR || traversal == TT_KD_SEQ) {
         tt_kd_order ord;
         tt_kd_order_init(&ord, 0);
-        return TT_VARIANT(tt_kd_sltr_pass)(T, r, 1, &ord, caster, ta, 0.0f, caster, &ties, best,
-                                           end, stats);
+        /* A probe that would exceed the near-tie budget simply misses. */
+        tt_kd_budget budget = {TT_KD_SPARE, 0u, 0};
+        return TT_VARIANT(tt_kd_sltr_pass)(T, r, 1, &ord, caster, ta, 0.0f, caster, &ties,
+                                           &budget, best, end, stats) &&
+               !budget.over;
     }
     return TT_VARIANT(tt_kd_btr_from)(T, r, 1, caster, ta, tb, caster, best, end, stats);
 }

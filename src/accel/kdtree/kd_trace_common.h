@@ -225,37 +225,50 @@ TT_HD tt_kd_node TT_VARIANT(tt_kd_descend)(const tt_kd_view *T, const tt_wray *r
     tt_kd_node n = T->nodes[i];
     tt_kd_key te = *texit, te2 = {TT_INF, 3, 0.0f, 0.0f};
     int box_exit = 1;
+    /* tt_kd_cross_err's factors, bit for bit: band |inv_k| and |o_k|. */
+    float bi[3], ao[3];
+    for (int k = 0; k < 3; k++) {
+        bi[k] = TT_KD_BAND * fabsf(r->inv[k]);
+        ao[k] = fabsf(r->org[k]);
+    }
+    const float e_t = tentry->t, e_err = tentry->err;
     (void)stats;
     while (!tt_kd_is_leaf(n.bits)) {
         TT_COUNT(stats, interior, 1);
         TT_COUNT(stats, nodes, 1);
         const int k = tt_kd_axis(n.bits);
         const uint32_t left = tt_kd_left(i, n.bits), right = tt_kd_right(n.bits);
-        const float d = r->dir[k];
+        const float d = r->dir[k], split = n.u.split;
         if (d == 0.0f) {
-            if (r->org[k] < n.u.split) i = left;
-            else if (r->org[k] > n.u.split) i = right;
+            if (r->org[k] < split) i = left;
+            else if (r->org[k] > split) i = right;
             else {
                 *ties |= 1u << k;
                 i = ((ord->sides >> k) & 1u) ? right : left;
             }
         } else {
+            const float ct = (split - r->org[k]) * r->inv[k];
+            const float cerr = bi[k] * (fabsf(split) + ao[k]);
             tt_kd_key c;
-            c.t = (n.u.split - r->org[k]) * r->inv[k];
+            c.t = ct;
             c.rank = ord->rank[k];
-            c.pos = d < 0.0f ? -n.u.split : n.u.split;
-            c.err = tt_kd_cross_err(r, k, n.u.split);
-            if (tt_kd_near(&c, tentry)) {
+            c.pos = d < 0.0f ? -split : split;
+            c.err = cerr;
+            const int near = fabsf(ct - e_t) <= cerr + e_err;
+            if (near) {
                 amb->all++;
                 amb->other += (unsigned)!tt_kd_key_same(&c, tentry);
             }
-            if (tt_kd_key_after(&c, tentry, ties)) {
+            /* tt_kd_key_after's order, its common case (distinct
+             * distances decide alone) written out: keys are whole only
+             * for ties. */
+            if (ct != e_t ? ct > e_t : tt_kd_key_after(&c, tentry, ties)) {
                 i = d < 0.0f ? right : left;
-                if (tt_kd_key_after(&te, &c, ties)) {
+                if (ct < te.t || (ct == te.t && tt_kd_key_after(&te, &c, ties))) {
                     te2 = te;
                     te = c;
                     box_exit = 0;
-                } else if (tt_kd_key_after(&te2, &c, ties)) {
+                } else if (ct < te2.t || (ct == te2.t && tt_kd_key_after(&te2, &c, ties))) {
                     te2 = c;
                 }
             } else {
@@ -317,9 +330,33 @@ TT_HD tt_kd_node TT_VARIANT(tt_kd_descend_mask)(const tt_kd_view *T, const tt_wr
     return n;
 }
 
-/* At most 2^TT_KD_AROUND_MAX descents around one point: far more near-equal
- * planes on one path than any real tree has. */
-#define TT_KD_AROUND_MAX 12u
+#ifndef TT_KD_BUDGET_DEFINED
+#define TT_KD_BUDGET_DEFINED
+/* What the near-tie search may still spend on one ray, in descents: the
+ * re-descents of tt_kd_around and every descent of a pass after the first
+ * (main: what a main descent costs in the current pass, 0 in the first).
+ * The search is exact but exponential in the near-ambiguous planes on one
+ * path (2^n descents), which real trees keep at a handful and a scene far
+ * from the origin, whose planes all lie within one rounding band, makes
+ * dozens. When the budget would be exceeded the search gives up (over) and
+ * the caller finishes the ray with a traversal that needs no search (see
+ * kd_trace_sltr.h), so the bound costs no exactness. */
+typedef struct tt_kd_budget {
+    unsigned spare, main;
+    int over;
+} tt_kd_budget;
+
+/* Takes n descents from the budget; 0 (and over set) if they do not fit. */
+TT_HD int tt_kd_budget_take(tt_kd_budget *b, unsigned n)
+{
+    if (b->over || n > b->spare) {
+        b->over = 1;
+        return 0;
+    }
+    b->spare -= n;
+    return 1;
+}
+#endif
 
 /* The leaves around entry point *tentry that a near-ambiguous choice may
  * hide: every combination of choices at the near-ambiguous nodes below
@@ -327,19 +364,34 @@ TT_HD tt_kd_node TT_VARIANT(tt_kd_descend_mask)(const tt_kd_view *T, const tt_wr
  * i-th such node of the path). The combination 0 (the computed path) is
  * skipped when the caller has already visited it and passes its count in
  * amb. Leaves are tested on the ray's whole [tmin, best) like any other,
- * so extra leaves cost only time. 1 on an any-hit. */
+ * so extra leaves cost only time. 1 on an any-hit, and when the descents
+ * do not fit the budget (budget->over; a path with more than 31
+ * near-ambiguous nodes never fits). */
 TT_HD int TT_VARIANT(tt_kd_around)(const tt_kd_view *T, const tt_wray *r, int any,
                                    const tt_kd_order *ord, uint32_t from, const tt_kd_key *tentry,
-                                   int skip_computed, unsigned amb, tt_kd_best *best,
-                                   tt_ray_stats *stats)
+                                   int skip_computed, unsigned amb, tt_kd_budget *budget,
+                                   tt_kd_best *best, tt_ray_stats *stats)
 {
     unsigned most = amb;
-    for (uint32_t m = skip_computed ? 1u : 0u;
-         m < (1u << (most < TT_KD_AROUND_MAX ? most : TT_KD_AROUND_MAX)); m++) {
+    /* All the combinations known to be needed must fit, or none is tried. */
+    if (most > 31u || !tt_kd_budget_take(budget, 0u) ||
+        (1u << most) - (unsigned)skip_computed > budget->spare) {
+        budget->over = 1;
+        return 1;
+    }
+    for (uint32_t m = skip_computed ? 1u : 0u; m < (1u << most); m++) {
         unsigned count;
+        if (!tt_kd_budget_take(budget, 1u)) return 1;
         tt_kd_node leaf = TT_VARIANT(tt_kd_descend_mask)(T, r, ord, from, tentry, m, &count, stats);
-        if (count > most) most = count;
-        if (count < 32u && (m >> count) != 0u) continue; /* same path as a smaller mask */
+        if (count > most) {
+            /* This path meets more near planes: their combinations too. */
+            if (count > 31u || (1u << count) - m - 1u > budget->spare) {
+                budget->over = 1;
+                return 1;
+            }
+            most = count;
+        }
+        if ((m >> count) != 0u) continue; /* same path as a smaller mask */
         if (TT_VARIANT(tt_kd_leaf)(T, leaf, r, any, best, stats)) return 1;
     }
     return 0;

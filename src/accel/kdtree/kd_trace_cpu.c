@@ -33,3 +33,21 @@ int tt_kd_cpu_occluded_stats(const tt_kd_view *T, int traversal, const tt_wray *
 {
     return tt_kd_occluded_stats(T, traversal, r, hint, caster, end, stats);
 }
+
+int tt_kd_cpu_stackless(const tt_kd_view *T, int seq, const tt_wray *r, int any, uint32_t hint,
+                        unsigned spare, tt_hit *hit, uint32_t *end, int *gave_up,
+                        tt_ray_stats *stats)
+{
+    tt_kd_best best;
+    int s;
+    *end = TT_INVALID_ID;
+    tt_kd_best_init(&best, r);
+    if (stats) {
+        stats->rays++;
+        s = tt_kd_stackless_within_stats(T, r, any, seq, hint, spare, &best, end, gave_up, stats);
+    } else {
+        s = tt_kd_stackless_within(T, r, any, seq, hint, spare, &best, end, gave_up, NULL);
+    }
+    tt_kd_best_store(&best, hit);
+    return s;
+}

@@ -42,14 +42,16 @@
 TT_HD int TT_VARIANT(tt_kd_near_cells)(const tt_kd_view *T, const tt_wray *r, int any,
                                        const tt_kd_order *ord, uint32_t from,
                                        const tt_kd_key *tentry, const tt_kd_amb *amb,
-                                       int prev_edge, tt_kd_best *best, tt_ray_stats *stats)
+                                       int prev_edge, tt_kd_budget *budget, tt_kd_best *best,
+                                       tt_ray_stats *stats)
 {
     if (from != 0 && tt_kd_near_faces(&T->aug[from], r, tentry)) {
         TT_COUNT(stats, boxes, 1);
-        return TT_VARIANT(tt_kd_around)(T, r, any, ord, 0, tentry, 0, 0, best, stats);
+        return TT_VARIANT(tt_kd_around)(T, r, any, ord, 0, tentry, 0, 0, budget, best, stats);
     }
     if (amb->other == 0 && !prev_edge) return 0;
-    return TT_VARIANT(tt_kd_around)(T, r, any, ord, from, tentry, 1, amb->all, best, stats);
+    return TT_VARIANT(tt_kd_around)(T, r, any, ord, from, tentry, 1, amb->all, budget, best,
+                                    stats);
 }
 
 /* Whether the leaf just left (exit *texit, descent from `from`) was left
@@ -73,11 +75,13 @@ TT_HD int tt_kd_done_before(float t, const tt_kd_key *exit)
 #endif
 
 /* One SLTR pass from augmented node `start`, entering at ta, climbing no
- * higher than `stop` (TT_KD_NO_PARENT: up to the root). 1 on an any-hit. */
+ * higher than `stop` (TT_KD_NO_PARENT: up to the root). 1 on an any-hit,
+ * and when the budget is spent (budget->over: the pass is abandoned). */
 TT_HD int TT_VARIANT(tt_kd_sltr_pass)(const tt_kd_view *T, const tt_wray *r, int any,
                                       const tt_kd_order *ord, uint32_t start, float ta,
-                                      float ta_err, uint32_t stop, unsigned *ties, tt_kd_best *best,
-                                      uint32_t *end, tt_ray_stats *stats)
+                                      float ta_err, uint32_t stop, unsigned *ties,
+                                      tt_kd_budget *budget, tt_kd_best *best, uint32_t *end,
+                                      tt_ray_stats *stats)
 {
     uint32_t last = start;
     tt_kd_key tup = tt_kd_box_exit_key(&T->aug[start], r, ord, ties);
@@ -88,10 +92,12 @@ TT_HD int TT_VARIANT(tt_kd_sltr_pass)(const tt_kd_view *T, const tt_wray *r, int
         uint32_t node = T->aug[last].node;
         tt_kd_amb amb = {0u, 0u, 0, 0};
         tt_kd_key texit = tup;
+        if (!tt_kd_budget_take(budget, budget->main)) return 1;
         tt_kd_node leaf = TT_VARIANT(tt_kd_descend)(T, r, ord, &node, &tentry, &texit, ties, &last,
                                                     &tup, &amb, stats);
         if (TT_VARIANT(tt_kd_leaf)(T, leaf, r, any, best, stats) ||
-            TT_VARIANT(tt_kd_near_cells)(T, r, any, ord, from, &tentry, &amb, edge, best, stats)) {
+            TT_VARIANT(tt_kd_near_cells)(T, r, any, ord, from, &tentry, &amb, edge, budget, best,
+                                         stats)) {
             *end = last;
             return 1;
         }
@@ -116,16 +122,16 @@ TT_HD int TT_VARIANT(tt_kd_sltr_pass)(const tt_kd_view *T, const tt_wray *r, int
         }
         if (!found) /* left the scene (or the box `stop`): search around the exit */
             return stop == TT_KD_NO_PARENT && edge &&
-                   TT_VARIANT(tt_kd_around)(T, r, any, ord, 0, &tentry, 0, 0, best, stats);
+                   TT_VARIANT(tt_kd_around)(T, r, any, ord, 0, &tentry, 0, 0, budget, best, stats);
     }
 }
 
 /* One SEQ pass: the first descent from `start`, every later one from the
- * root. */
+ * root. Returns as tt_kd_sltr_pass. */
 TT_HD int TT_VARIANT(tt_kd_seq_pass)(const tt_kd_view *T, const tt_wray *r, int any,
                                      const tt_kd_order *ord, uint32_t start, float ta,
-                                     float ta_err, unsigned *ties, tt_kd_best *best, uint32_t *end,
-                                     tt_ray_stats *stats)
+                                     float ta_err, unsigned *ties, tt_kd_budget *budget,
+                                     tt_kd_best *best, uint32_t *end, tt_ray_stats *stats)
 {
     const tt_kd_key root_exit = tt_kd_box_exit_key(&T->aug[0], r, ord, ties);
     uint32_t node = T->aug[start].node, last = start;
@@ -135,10 +141,12 @@ TT_HD int TT_VARIANT(tt_kd_seq_pass)(const tt_kd_view *T, const tt_wray *r, int 
     int edge = 0;
     for (;;) {
         tt_kd_amb amb = {0u, 0u, 0, 0};
+        if (!tt_kd_budget_take(budget, budget->main)) return 1;
         tt_kd_node leaf = TT_VARIANT(tt_kd_descend)(T, r, ord, &node, &tentry, &texit, ties, &last,
                                                     &tup, &amb, stats);
         if (TT_VARIANT(tt_kd_leaf)(T, leaf, r, any, best, stats) ||
-            TT_VARIANT(tt_kd_near_cells)(T, r, any, ord, from, &tentry, &amb, edge, best, stats)) {
+            TT_VARIANT(tt_kd_near_cells)(T, r, any, ord, from, &tentry, &amb, edge, budget, best,
+                                         stats)) {
             *end = last;
             return 1;
         }
@@ -148,7 +156,8 @@ TT_HD int TT_VARIANT(tt_kd_seq_pass)(const tt_kd_view *T, const tt_wray *r, int 
         if (tt_kd_done_before(best->t, &texit)) return 0;
         edge = TT_VARIANT(tt_kd_left_near_edge)(T, r, from, &texit, &amb);
         if (!tt_kd_key_after(&root_exit, &texit, ties)) /* left the scene: search around the exit */
-            return edge && TT_VARIANT(tt_kd_around)(T, r, any, ord, 0, &texit, 0, 0, best, stats);
+            return edge &&
+                   TT_VARIANT(tt_kd_around)(T, r, any, ord, 0, &texit, 0, 0, budget, best, stats);
         from = 0;
         tentry = texit;
         node = 0;
@@ -157,10 +166,18 @@ TT_HD int TT_VARIANT(tt_kd_seq_pass)(const tt_kd_view *T, const tt_wray *r, int 
     }
 }
 
-/* The passes (see above), for SLTR (seq == 0) or SEQ. */
-TT_HD int TT_VARIANT(tt_kd_stackless)(const tt_kd_view *T, const tt_wray *r, int any, int seq,
-                                      uint32_t hint, tt_kd_best *best, uint32_t *end,
-                                      tt_ray_stats *stats)
+#ifndef TT_KD_GAVE_UP
+/* tt_kd_stackless_passes' answer when it gave up on the ray. */
+#define TT_KD_GAVE_UP 2
+#endif
+
+/* The passes (see above), for SLTR (seq == 0) or SEQ, with a near-tie
+ * search of at most `spare` descents: 1 on an any-hit, TT_KD_GAVE_UP when
+ * the search would exceed it (*best then holds true hits found so far, or
+ * none), else 0. */
+TT_HD int TT_VARIANT(tt_kd_stackless_passes)(const tt_kd_view *T, const tt_wray *r, int any,
+                                             int seq, uint32_t hint, unsigned spare,
+                                             tt_kd_best *best, uint32_t *end, tt_ray_stats *stats)
 {
     float ta, tb;
     unsigned tests = 1;
@@ -187,19 +204,53 @@ TT_HD int TT_VARIANT(tt_kd_stackless)(const tt_kd_view *T, const tt_wray *r, int
     ta_err *= 2.0f;
     unsigned ties = 0, pass = 0;
     uint64_t done = 0;
+    tt_kd_budget budget = {spare, 0u, 0};
     for (;;) {
         tt_kd_order ord;
         tt_kd_order_init(&ord, pass);
         done |= (uint64_t)1 << pass;
-        int hit = seq ? TT_VARIANT(tt_kd_seq_pass)(T, r, any, &ord, start, ta, ta_err, &ties, best,
-                                                   end, stats)
+        budget.main = pass != 0; /* the first pass's own path is free */
+        int hit = seq ? TT_VARIANT(tt_kd_seq_pass)(T, r, any, &ord, start, ta, ta_err, &ties,
+                                                   &budget, best, end, stats)
                       : TT_VARIANT(tt_kd_sltr_pass)(T, r, any, &ord, start, ta, ta_err,
-                                                    TT_KD_NO_PARENT, &ties, best, end, stats);
+                                                    TT_KD_NO_PARENT, &ties, &budget, best, end,
+                                                    stats);
+        if (budget.over) return TT_KD_GAVE_UP;
         if (hit) return 1;
+        if (ties == 0) return 0; /* no tie: the first pass was the only one */
         /* The next untried pass over the ties seen so far. */
         const unsigned perms = (ties & TT_KD_CORNER_TIE) ? 6u : 1u;
         for (pass = 0; pass < 8u * perms; pass++)
             if ((pass & 7u & ~ties) == 0 && !((done >> pass) & 1u)) break;
         if (pass == 8u * perms) return 0;
     }
+}
+
+/* SLTR or SEQ with a near-tie search of at most `spare` descents. A ray
+ * whose search gives up (*gave_up) is finished by BTR, which needs no
+ * search: it visits every cell whose interval, widened by the rounding band
+ * at each plane, touches the ray's, and tests leaves on the ray's whole
+ * [tmin, best), so rounding in its choices costs time, never a hit. The
+ * hits the passes found are true hits and stay in *best (BTR only narrows
+ * it). Its stack is bounded by the tree depth. */
+TT_HD int TT_VARIANT(tt_kd_stackless_within)(const tt_kd_view *T, const tt_wray *r, int any,
+                                             int seq, uint32_t hint, unsigned spare,
+                                             tt_kd_best *best, uint32_t *end, int *gave_up,
+                                             tt_ray_stats *stats)
+{
+    const int s = TT_VARIANT(tt_kd_stackless_passes)(T, r, any, seq, hint, spare, best, end,
+                                                     stats);
+    *gave_up = s == TT_KD_GAVE_UP;
+    if (!*gave_up) return s;
+    *end = TT_INVALID_ID;
+    return TT_VARIANT(tt_kd_btr)(T, r, any, hint, best, end, stats);
+}
+
+TT_HD int TT_VARIANT(tt_kd_stackless)(const tt_kd_view *T, const tt_wray *r, int any, int seq,
+                                      uint32_t hint, tt_kd_best *best, uint32_t *end,
+                                      tt_ray_stats *stats)
+{
+    int gave_up;
+    return TT_VARIANT(tt_kd_stackless_within)(T, r, any, seq, hint, TT_KD_SPARE, best, end,
+                                              &gave_up, stats);
 }

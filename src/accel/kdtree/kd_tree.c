@@ -99,6 +99,7 @@ tt_status tt_kdtree_build(tt_context *ctx, const tt_scene *scene, const tt_kdtre
     b.empty_factor = 1.0 - (double)opt->empty_bonus;
     b.max_depth = opt->max_depth ? opt->max_depth : auto_depth(scene->triangle_count);
     b.dmin = opt->dmin;
+    b.ref_budget = kd_ref_budget(b.tri_count);
     tt_aabb root = scene->bounds;
     /* Record 0: the root's box, which every traversal clips against. */
     b.aug = tt_alloc_array(ctx, 256, sizeof *b.aug);
@@ -131,6 +132,7 @@ tt_status tt_kdtree_build(tt_context *ctx, const tt_scene *scene, const tt_kdtre
     t->aug_count = b.aug_count;
     t->dmin = opt->dmin;
     t->max_depth = b.max_depth;
+    t->ref_budget_hit = b.budget_hit;
     t->cost_traversal = b.ct;
     t->cost_intersect = b.ci;
     t->empty_factor = b.empty_factor;

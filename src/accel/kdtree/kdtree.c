@@ -87,6 +87,9 @@ static void kd_statistics(const tt_accel *a, tt_stat_fn fn, void *user)
     fn(user, "dmin", (double)t->dmin);
     fn(user, "references", (double)t->ref_count);
     fn(user, "refs_per_triangle", tris ? (double)t->ref_count / (double)tris : 0.0);
+    /* 1 when the reference budget (kd_build.c) stopped some split: the
+     * tree is then shallower than the SAH alone would have made it. */
+    fn(user, "ref_budget_reached", (double)t->ref_budget_hit);
     fn(user, "sah_cost", t->sah_cost);
     fn(user, "triangles", (double)tris);
 }

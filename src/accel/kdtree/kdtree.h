@@ -22,6 +22,7 @@ typedef struct tt_kdtree {
     /* The parameters the tree was built with (validated, auto resolved). */
     int dmin;      /* < 0: only the root is augmented                     */
     int max_depth; /* the depth limit the builder enforced                */
+    int ref_budget_hit; /* some split was refused by the reference budget */
     double cost_traversal, cost_intersect, empty_factor;
 
     /* Shape, counted once after the build. */

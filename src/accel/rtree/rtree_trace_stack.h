@@ -6,8 +6,7 @@
  * farther than the closest hit found since it was pushed is dropped when
  * popped. At most M - 1 entries per level wait while a node's children are
  * pushed, so (L + 1) * M <= TT_RT_STACK_SIZE entries suffice. */
-#include "accel/rtree/rtree_packed.h"
-#include "geometry/triangle.h"
+#include "accel/rtree/rtree_trace_leaf.h"
 
 TT_RT_INLINE int TT_VARIANT(tt_rt_stack_m)(const tt_rtree_packed *TT_RESTRICT t, const uint32_t Mc,
         const tt_wray *r, int any, tt_hit *hit, tt_ray_stats *stats)
@@ -63,21 +62,7 @@ TT_RT_INLINE int TT_VARIANT(tt_rt_stack_m)(const tt_rtree_packed *TT_RESTRICT t,
                 sp++;
             }
         } else {
-            TT_COUNT(stats, leaves, 1);
-            const uint32_t j = n - t->delta[0];
-            const uint32_t a = TT_LDG(t->leaf_start + j), e = TT_LDG(t->leaf_start + j + 1);
-            TT_COUNT(stats, triangles, e - a);
-            for (uint32_t k = a; k < e; k++) {
-                const float *p = t->tri + 9 * (size_t)k;
-                float tt, u, v;
-                if (tt_intersect_triangle(r, p, p + 3, p + 6, best, &tt, &u, &v)) {
-                    if (any) return 1;
-                    best = tt;
-                    bu = u;
-                    bv = v;
-                    found = k;
-                }
-            }
+            if (TT_VARIANT(tt_rt_leaf)(t, n, r, any, &best, &bu, &bv, &found, stats)) return 1;
         }
     }
 done:

@@ -12,30 +12,13 @@
 #define SIZE 32
 #define RANDOM_RAYS 300
 
-static int has_accel(const char *name)
-{
-    for (const char *const *n = tt_accel_names(); *n; n++)
-        if (strcmp(*n, name) == 0) return 1;
-    return 0;
-}
-
-static tt_accel *build(tt_context *ctx, const tt_scene *scene, const char *name)
-{
-    tt_build_options opt;
-    tt_build_options_default(&opt);
-    opt.accel = name;
-    tt_accel *a = NULL;
-    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &opt, &a));
-    return a;
-}
-
 static void check_scene(tt_context *ctx, const char *file, const char *view)
 {
     tt_scene *scene = tt_test_load_scene(ctx, file);
     tt_camera cam;
     tt_test_view(ctx, view, &cam);
-    tt_accel *embree = build(ctx, scene, "embree");
-    tt_accel *bf = build(ctx, scene, "bruteforce");
+    tt_accel *embree = tt_test_build_default(ctx, scene, "embree");
+    tt_accel *bf = tt_test_build_default(ctx, scene, "bruteforce");
     CHECK_OK(ctx, tt_accel_check(embree));
 
     size_t bad = tt_test_compare_view(scene, embree, bf, &cam, SIZE, SIZE);
@@ -67,7 +50,7 @@ static void check_scene(tt_context *ctx, const char *file, const char *view)
      * with its default options, against Embree */
     for (const char *const *n = tt_accel_names(); *n; n++) {
         if (strcmp(*n, "embree") == 0 || strcmp(*n, "bruteforce") == 0) continue;
-        tt_accel *other = build(ctx, scene, *n);
+        tt_accel *other = tt_test_build_default(ctx, scene, *n);
         bad = tt_test_compare_view(scene, other, embree, &cam, SIZE, SIZE);
         CHECK_MSG(bad == 0, "%s: %s vs embree: %zu of %d pixels disagree", view, *n, bad,
                   SIZE * SIZE);
@@ -80,7 +63,7 @@ static void check_scene(tt_context *ctx, const char *file, const char *view)
 
 int main(void)
 {
-    if (!has_accel("embree")) {
+    if (!tt_test_has_accel("embree")) {
         printf("skipped: this build has no Embree\n");
         return 77;
     }

@@ -9,23 +9,6 @@
 #include "check.h"
 #include "compare.h"
 
-static int has_accel(const char *name)
-{
-    for (const char *const *n = tt_accel_names(); *n; n++)
-        if (strcmp(*n, name) == 0) return 1;
-    return 0;
-}
-
-static tt_accel *build(tt_context *ctx, const tt_scene *scene, const char *name)
-{
-    tt_build_options opt;
-    tt_build_options_default(&opt);
-    opt.accel = name;
-    tt_accel *a = NULL;
-    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &opt, &a));
-    return a;
-}
-
 /* Two triangles forming the square [0,1]^2 at z = 1, and a second square at
  * z = 3 (so closest-hit ordering matters). */
 static tt_scene *two_squares(tt_context *ctx)
@@ -46,8 +29,8 @@ static tt_ray ray_up(float x, float y, float tmin, float tmax)
 static void test_interval(tt_context *ctx)
 {
     tt_scene *s = two_squares(ctx);
-    tt_accel *e = build(ctx, s, "embree");
-    tt_accel *bf = build(ctx, s, "bruteforce");
+    tt_accel *e = tt_test_build_default(ctx, s, "embree");
+    tt_accel *bf = tt_test_build_default(ctx, s, "bruteforce");
     const float one = 1.0f, three = 3.0f;
     const float above_one = nextafterf(one, INFINITY), below_one = nextafterf(one, 0.0f);
     tt_hit h;
@@ -153,7 +136,7 @@ static void on_stat(void *user, const char *key, double value)
 static void test_introspection(tt_context *ctx)
 {
     tt_scene *s = two_squares(ctx);
-    tt_accel *e = build(ctx, s, "embree");
+    tt_accel *e = tt_test_build_default(ctx, s, "embree");
     CHECK(strcmp(tt_accel_name(e), "embree") == 0);
     CHECK_OK(ctx, tt_accel_check(e));
     CHECK(tt_accel_build_seconds(e) > 0.0);
@@ -198,8 +181,8 @@ static void test_introspection(tt_context *ctx)
             nt += 2;
         }
     REQUIRE_OK(ctx, tt_scene_create(ctx, v, nv, idx, nt, &s));
-    e = build(ctx, s, "embree");
-    tt_accel *bf = build(ctx, s, "bruteforce");
+    e = tt_test_build_default(ctx, s, "embree");
+    tt_accel *bf = tt_test_build_default(ctx, s, "bruteforce");
     CHECK_OK(ctx, tt_accel_check(e));
     size_t big = tt_accel_memory_bytes(e);
     CHECK_MSG(big > nv * 12 + nt * 12 + nt * 16, "memory %zu", big); /* buffers + some BVH */
@@ -228,7 +211,7 @@ static void test_empty(tt_context *ctx)
 {
     tt_scene *s = NULL;
     REQUIRE_OK(ctx, tt_scene_create(ctx, NULL, 0, NULL, 0, &s));
-    tt_accel *e = build(ctx, s, "embree");
+    tt_accel *e = tt_test_build_default(ctx, s, "embree");
     CHECK_OK(ctx, tt_accel_check(e));
     tt_ray r = ray_up(0.0f, 0.0f, 0.0f, INFINITY);
     tt_hit h;
@@ -243,7 +226,7 @@ static void test_empty(tt_context *ctx)
 
 int main(void)
 {
-    if (!has_accel("embree")) {
+    if (!tt_test_has_accel("embree")) {
         printf("skipped: this build has no Embree\n");
         return 77;
     }

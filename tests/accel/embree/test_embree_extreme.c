@@ -23,23 +23,6 @@
 #include "compare.h"
 #include "../../hard/hard_scenes.h"
 
-static int has_accel(const char *name)
-{
-    for (const char *const *n = tt_accel_names(); *n; n++)
-        if (strcmp(*n, name) == 0) return 1;
-    return 0;
-}
-
-static tt_accel *build(tt_context *ctx, const tt_scene *scene, const char *name)
-{
-    tt_build_options opt;
-    tt_build_options_default(&opt);
-    opt.accel = name;
-    tt_accel *a = NULL;
-    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &opt, &a));
-    return a;
-}
-
 /* A miss, or a triangle in range with t inside the ray's interval. */
 static int valid_hit(const tt_scene *s, const tt_ray *r, const tt_hit *h)
 {
@@ -94,7 +77,7 @@ static void test_crash_rays(tt_context *ctx)
     hard_mesh m = {0};
     hard_gen_identical(&m, 1);
     tt_scene *s = hard_scene(ctx, &m);
-    tt_accel *e = build(ctx, s, "embree"), *bf = build(ctx, s, "bruteforce");
+    tt_accel *e = tt_test_build_default(ctx, s, "embree"), *bf = tt_test_build_default(ctx, s, "bruteforce");
     tt_ray huge = {{0.67672205f, -0.0608524084f, 0.392681003f}, 0.0f,
                    {7.39144933e+19f, -0.0f, -3.94822619e+19f}, INFINITY};
     expect_bruteforce(ctx, s, e, bf, &huge, "direction components of 7e19");
@@ -114,8 +97,8 @@ static void test_crash_rays(tt_context *ctx)
     /* the tiny direction (1e-40, 6.3e-21, 6.5e-22) on the flat scene */
     hard_gen_coplanar(&m, 1, 8, 100, 99u);
     s = hard_scene(ctx, &m);
-    e = build(ctx, s, "embree");
-    bf = build(ctx, s, "bruteforce");
+    e = tt_test_build_default(ctx, s, "embree");
+    bf = tt_test_build_default(ctx, s, "bruteforce");
     tt_ray tiny = {{1.93726909f, -2.96994305f, 1.13657498f}, 0.0f,
                    {9.9999461e-41f, 6.32239305e-21f, 6.54464957e-22f}, INFINITY};
     expect_bruteforce(ctx, s, e, bf, &tiny, "a tiny direction (1e-40, 6.3e-21, 6.5e-22)");
@@ -134,7 +117,7 @@ static void test_scaled_directions(tt_context *ctx)
     hard_mesh m = {0};
     hard_gen_soup(&m, "soup", 400, 0.1f, 7u);
     tt_scene *s = hard_scene(ctx, &m);
-    tt_accel *e = build(ctx, s, "embree"), *bf = build(ctx, s, "bruteforce");
+    tt_accel *e = tt_test_build_default(ctx, s, "embree"), *bf = tt_test_build_default(ctx, s, "bruteforce");
     static const int exps[] = {-140, -126, -100, -70, -64, -21, -20, 0, 20, 21, 60, 64, 66, 100, 120};
     static const float odd[] = {1e20f, 7.39e19f, 1e-20f, 1e37f};
     /* Directions so tiny that the hits lie near FLT_MAX: the watertight test
@@ -214,7 +197,7 @@ static void test_bruteforce_fallback(tt_context *ctx)
     hard_mesh m = {0};
     hard_gen_soup(&m, "soup", 300, 0.1f, 8u);
     tt_scene *s = hard_scene(ctx, &m);
-    tt_accel *e = build(ctx, s, "embree"), *bf = build(ctx, s, "bruteforce");
+    tt_accel *e = tt_test_build_default(ctx, s, "embree"), *bf = tt_test_build_default(ctx, s, "bruteforce");
     uint32_t x = 99u;
     for (int i = 0; i < 40; i++) {
         float p[3];
@@ -241,7 +224,7 @@ static void test_bruteforce_fallback(tt_context *ctx)
 
 int main(void)
 {
-    if (!has_accel("embree")) {
+    if (!tt_test_has_accel("embree")) {
         printf("no embree in this build: skipped\n");
         return 77;
     }

@@ -48,40 +48,50 @@ int main(void)
     co.allocator.user = &f;
     tt_context *ctx = NULL;
     REQUIRE_OK(ctx, tt_context_create(&co, &ctx));
-    tt_scene *scene = kd_scene_soup(ctx, 120, 31);
-    const long base = f.live;
-    for (int builder = TT_KD_NLOGN; builder <= TT_KD_NLOG2N; builder++) {
-        tt_build_options o;
-        tt_build_options_default(&o);
-        o.accel = "kdtree";
-        o.kdtree.builder = (tt_kd_builder)builder;
-        o.kdtree.dmin = 1;
-        int built = 0;
-        for (long n = 0; n < 100000 && !built; n++) {
-            f.count = 0;
-            f.fail_at = n;
-            tt_accel *a = NULL;
-            tt_status st = tt_accel_build(ctx, scene, &o, &a);
-            if (st == TT_OK) {
-                /* The check allocates too. */
-                tt_status cs = tt_accel_check(a);
-                CHECK(cs == TT_OK || cs == TT_ERR_OUT_OF_MEMORY);
-                f.fail_at = -1;
-                CHECK_OK(ctx, tt_accel_check(a));
-                tt_accel_destroy(a);
-                built = 1;
-            } else {
-                CHECK_MSG(st == TT_ERR_OUT_OF_MEMORY && a == NULL,
-                          "builder %d, failing allocation %ld: status %d (%s)", builder, n, (int)st,
-                          tt_context_last_error(ctx));
+    /* A small soup, and one big enough that the O(N log N) builder's nodes
+     * near the root get blocks of their own (beyond its reusable buffers);
+     * only that builder on it (the other allocates per node: thousands of
+     * builds). */
+    const int sizes[] = {120, 3000};
+    for (size_t si = 0; si < sizeof sizes / sizeof sizes[0]; si++) {
+        tt_scene *scene = kd_scene_soup(ctx, sizes[si], 31);
+        const long base = f.live;
+        const int last = si == 0 ? TT_KD_NLOG2N : TT_KD_NLOGN;
+        for (int builder = TT_KD_NLOGN; builder <= last; builder++) {
+            tt_build_options o;
+            tt_build_options_default(&o);
+            o.accel = "kdtree";
+            o.kdtree.builder = (tt_kd_builder)builder;
+            o.kdtree.dmin = 1;
+            int built = 0;
+            for (long n = 0; n < 100000 && !built; n++) {
+                f.count = 0;
+                f.fail_at = n;
+                tt_accel *a = NULL;
+                tt_status st = tt_accel_build(ctx, scene, &o, &a);
+                if (st == TT_OK) {
+                    /* The check allocates too. */
+                    tt_status cs = tt_accel_check(a);
+                    CHECK(cs == TT_OK || cs == TT_ERR_OUT_OF_MEMORY);
+                    f.fail_at = -1;
+                    CHECK_OK(ctx, tt_accel_check(a));
+                    tt_accel_destroy(a);
+                    built = 1;
+                } else {
+                    CHECK_MSG(st == TT_ERR_OUT_OF_MEMORY && a == NULL,
+                              "%d triangles, builder %d, failing allocation %ld: status %d (%s)",
+                              sizes[si], builder, n, (int)st,
+                              tt_context_last_error(ctx));
+                }
+                CHECK_MSG(f.live == base,
+                          "%d triangles, builder %d, failing allocation %ld: %ld blocks leaked",
+                          sizes[si], builder, n, f.live - base);
             }
-            CHECK_MSG(f.live == base, "builder %d, failing allocation %ld: %ld blocks leaked",
-                      builder, n, f.live - base);
+            CHECK(built);
         }
-        CHECK(built);
+        f.fail_at = -1;
+        tt_scene_destroy(scene);
     }
-    f.fail_at = -1;
-    tt_scene_destroy(scene);
     tt_context_destroy(ctx);
     return tt_test_finish();
 }
