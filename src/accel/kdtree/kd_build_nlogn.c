@@ -168,7 +168,9 @@ static int child_lists(nl_state *s, const nl_lists *parent, int depth, uint32_t 
 static int clip_room(nl_state *s, uint32_t nb)
 {
     const size_t need = 14 * (size_t)nb;
-    if (need <= s->clip_cap) return 1;
+    /* Allocated even when no triangle straddles (need 0): the run pointers
+     * are computed from it, and an offset on a null pointer is undefined. */
+    if (s->clip && need <= s->clip_cap) return 1;
     size_t cap = s->clip_cap ? s->clip_cap : 1024;
     while (cap < need) cap *= 2;
     uint64_t *p = tt_realloc_array(s->b->ctx, s->clip, cap, sizeof *p);
