@@ -13,15 +13,36 @@
  * are dropped; with front-to-back order that ends the traversal right after
  * the hit's cell. */
 
+#ifndef TT_KD_HTR_ENTRY_DEFINED
+#define TT_KD_HTR_ENTRY_DEFINED
+/* A deferred far child and the ray's interval in it. */
+typedef struct tt_kd_htr_entry {
+    uint32_t node;
+    float ta, tb;
+} tt_kd_htr_entry;
+
+/* Pops the next deferred child that begins before the closest hit so far
+ * (t_best) into *node, *ta, *tb; 0 when none is left (the traversal ends). */
+TT_HD int tt_kd_htr_pop(const tt_kd_htr_entry *stack, int *sp, float t_best, uint32_t *node,
+                        float *ta, float *tb)
+{
+    do {
+        if (*sp == 0) return 0;
+        (*sp)--;
+    } while (stack[*sp].ta >= t_best);
+    *node = stack[*sp].node;
+    *ta = stack[*sp].ta;
+    *tb = stack[*sp].tb;
+    return 1;
+}
+#endif
+
 /* The general loop, for rays with a zero direction component (they may
  * lie in a split plane, which takes both children). */
 TT_HD int TT_VARIANT(tt_kd_htr_general)(const tt_kd_view *T, const tt_wray *r, int any,
                                         tt_kd_best *best, tt_ray_stats *stats)
 {
-    struct {
-        uint32_t node;
-        float ta, tb;
-    } stack[TT_KD_STACK];
+    tt_kd_htr_entry stack[TT_KD_STACK];
     float ta, tb;
     (void)stats;
     tt_kd_band band;
@@ -68,13 +89,7 @@ TT_HD int TT_VARIANT(tt_kd_htr_general)(const tt_kd_view *T, const tt_wray *r, i
             n = T->nodes[node];
         }
         if (TT_VARIANT(tt_kd_leaf)(T, n, r, any, best, stats)) return 1;
-        do {
-            if (sp == 0) return 0;
-            sp--;
-        } while (stack[sp].ta >= best->t);
-        node = stack[sp].node;
-        ta = stack[sp].ta;
-        tb = stack[sp].tb;
+        if (!tt_kd_htr_pop(stack, &sp, best->t, &node, &ta, &tb)) return 0;
     }
 }
 
@@ -98,10 +113,7 @@ TT_HD int TT_VARIANT(tt_kd_htr_general)(const tt_kd_view *T, const tt_wray *r, i
 TT_HD int TT_VARIANT(tt_kd_htr_moving)(const tt_kd_view *T, const tt_wray *r, int any,
                                        tt_kd_best *best, tt_ray_stats *stats)
 {
-    struct {
-        uint32_t node;
-        float ta, tb;
-    } stack[TT_KD_STACK];
+    tt_kd_htr_entry stack[TT_KD_STACK];
     float ta, tb, e[3];
     (void)stats;
     tt_kd_band band;
@@ -140,13 +152,7 @@ TT_HD int TT_VARIANT(tt_kd_htr_moving)(const tt_kd_view *T, const tt_wray *r, in
             n = T->nodes[node];
         }
         if (TT_VARIANT(tt_kd_leaf)(T, n, r, any, best, stats)) return 1;
-        do {
-            if (sp == 0) return 0;
-            sp--;
-        } while (stack[sp].ta >= best->t);
-        node = stack[sp].node;
-        ta = stack[sp].ta;
-        tb = stack[sp].tb;
+        if (!tt_kd_htr_pop(stack, &sp, best->t, &node, &ta, &tb)) return 0;
     }
 }
 

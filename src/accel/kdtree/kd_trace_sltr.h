@@ -74,6 +74,44 @@ TT_HD int tt_kd_done_before(float t, const tt_kd_key *exit)
 }
 #endif
 
+#ifndef TT_KD_STEP_DEFINED
+#define TT_KD_STEP_DEFINED
+enum { TT_KD_STEP_ON = 0, TT_KD_STEP_STOP = 1, TT_KD_STEP_DONE = 2 };
+#endif
+
+/* The step SLTR and SEQ share: locate the leaf the ray enters after
+ * *tentry by a descent from *node (below augmented node `from`), test it
+ * and the cells a near tie may hide around the entry point, and see
+ * whether the closest hit so far is final. TT_KD_STEP_STOP: an any-hit, or
+ * the budget ran out (the caller returns 1); TT_KD_STEP_DONE: the closest
+ * hit lies clearly before the leaf's exit (the caller returns 0);
+ * TT_KD_STEP_ON: go on from *texit, with *edge telling whether the leaf
+ * was left near an edge. */
+TT_HD int TT_VARIANT(tt_kd_stackless_step)(const tt_kd_view *T, const tt_wray *r, int any,
+                                           const tt_kd_order *ord, uint32_t from, uint32_t *node,
+                                           const tt_kd_key *tentry, tt_kd_key *texit,
+                                           unsigned *ties, uint32_t *last, tt_kd_key *tup,
+                                           int *edge, tt_kd_budget *budget, tt_kd_best *best,
+                                           uint32_t *end, tt_ray_stats *stats)
+{
+    tt_kd_amb amb = {0u, 0u, 0, 0};
+    if (!tt_kd_budget_take(budget, budget->main)) return TT_KD_STEP_STOP;
+    tt_kd_node leaf = TT_VARIANT(tt_kd_descend)(T, r, ord, node, tentry, texit, ties, last, tup,
+                                                &amb, stats);
+    if (TT_VARIANT(tt_kd_leaf)(T, leaf, r, any, best, stats) ||
+        TT_VARIANT(tt_kd_near_cells)(T, r, any, ord, from, tentry, &amb, *edge, budget, best,
+                                     stats)) {
+        *end = *last;
+        return TT_KD_STEP_STOP;
+    }
+    /* The ray ends in this leaf's box (or, past the last leaf, on the
+     * scene box right behind it). */
+    if (best->prim != TT_INVALID_ID) *end = *last;
+    if (tt_kd_done_before(best->t, texit)) return TT_KD_STEP_DONE;
+    *edge = TT_VARIANT(tt_kd_left_near_edge)(T, r, from, texit, &amb);
+    return TT_KD_STEP_ON;
+}
+
 /* One SLTR pass from augmented node `start`, entering at ta, climbing no
  * higher than `stop` (TT_KD_NO_PARENT: up to the root). 1 on an any-hit,
  * and when the budget is spent (budget->over: the pass is abandoned). */
@@ -88,24 +126,12 @@ TT_HD int TT_VARIANT(tt_kd_sltr_pass)(const tt_kd_view *T, const tt_wray *r, int
     tt_kd_key tentry = {ta, -1, -TT_INF, ta_err};
     int edge = 0;
     for (;;) {
-        const uint32_t from = last;
         uint32_t node = T->aug[last].node;
-        tt_kd_amb amb = {0u, 0u, 0, 0};
         tt_kd_key texit = tup;
-        if (!tt_kd_budget_take(budget, budget->main)) return 1;
-        tt_kd_node leaf = TT_VARIANT(tt_kd_descend)(T, r, ord, &node, &tentry, &texit, ties, &last,
-                                                    &tup, &amb, stats);
-        if (TT_VARIANT(tt_kd_leaf)(T, leaf, r, any, best, stats) ||
-            TT_VARIANT(tt_kd_near_cells)(T, r, any, ord, from, &tentry, &amb, edge, budget, best,
-                                         stats)) {
-            *end = last;
-            return 1;
-        }
-        /* The ray ends in this leaf's box (or, past the last leaf, on the
-         * scene box right behind it). */
-        if (best->prim != TT_INVALID_ID) *end = last;
-        if (tt_kd_done_before(best->t, &texit)) return 0;
-        edge = TT_VARIANT(tt_kd_left_near_edge)(T, r, from, &texit, &amb);
+        const int step = TT_VARIANT(tt_kd_stackless_step)(T, r, any, ord, last, &node, &tentry,
+                                                          &texit, ties, &last, &tup, &edge, budget,
+                                                          best, end, stats);
+        if (step != TT_KD_STEP_ON) return step == TT_KD_STEP_STOP;
         tentry = texit;
         if (tt_kd_key_after(&tup, &tentry, ties)) continue; /* still inside the last box */
         int found = 0;
@@ -140,21 +166,10 @@ TT_HD int TT_VARIANT(tt_kd_seq_pass)(const tt_kd_view *T, const tt_wray *r, int 
     uint32_t from = start;
     int edge = 0;
     for (;;) {
-        tt_kd_amb amb = {0u, 0u, 0, 0};
-        if (!tt_kd_budget_take(budget, budget->main)) return 1;
-        tt_kd_node leaf = TT_VARIANT(tt_kd_descend)(T, r, ord, &node, &tentry, &texit, ties, &last,
-                                                    &tup, &amb, stats);
-        if (TT_VARIANT(tt_kd_leaf)(T, leaf, r, any, best, stats) ||
-            TT_VARIANT(tt_kd_near_cells)(T, r, any, ord, from, &tentry, &amb, edge, budget, best,
-                                         stats)) {
-            *end = last;
-            return 1;
-        }
-        /* The ray ends in this leaf's box (or, past the last leaf, on the
-         * scene box right behind it). */
-        if (best->prim != TT_INVALID_ID) *end = last;
-        if (tt_kd_done_before(best->t, &texit)) return 0;
-        edge = TT_VARIANT(tt_kd_left_near_edge)(T, r, from, &texit, &amb);
+        const int step = TT_VARIANT(tt_kd_stackless_step)(T, r, any, ord, from, &node, &tentry,
+                                                          &texit, ties, &last, &tup, &edge, budget,
+                                                          best, end, stats);
+        if (step != TT_KD_STEP_ON) return step == TT_KD_STEP_STOP;
         if (!tt_kd_key_after(&root_exit, &texit, ties)) /* left the scene: search around the exit */
             return edge &&
                    TT_VARIANT(tt_kd_around)(T, r, any, ord, 0, &texit, 0, 0, budget, best, stats);
