@@ -79,9 +79,9 @@ void kd_sweep(const kd_builder *b, const uint64_t *ev, size_t n_ev, uint32_t n,
  * the references multiplying at every level (2000 such triangles: 266 M
  * references, minutes of build). The budget bounds that: a split whose
  * children would take the tree past it becomes a leaf. It is far above
- * what real scenes use (the shared ones: 4-5 references per triangle), so
- * it changes no tree there, and both builders apply it at the same nodes
- * in the same order, so they still build the same tree. */
+ * what real scenes use (the shared ones: 3.1-5.5 references per
+ * triangle), so it changes no tree there, and both builders apply it at
+ * the same nodes in the same order, so they still build the same tree. */
 size_t kd_ref_budget(uint32_t n) { return 64 * (size_t)n + ((size_t)1 << 20); }
 
 int kd_should_split(kd_builder *b, uint32_t n, int depth, const kd_split *best)

@@ -31,13 +31,14 @@
 
 #ifndef TT_KD_SPARE
 /* The budget of the exact stackless traversals' near-tie search per ray,
- * in descents (see tt_kd_budget in kd_trace_common.h). On the shared scenes' views (800x600, primary and shadow rays)
- * 98-100 % of the rays need none, all but a few in 1e5 need fewer than 16
- * and none needs 256, so none falls back (tests/accel/kdtree/
- * test_fallback_views.c keeps watch); on a scene 1e5 from the origin, whose
- * split planes all lie within one rounding band, nearly every ray would
- * need thousands and falls back instead. A fallback costs about one more
- * traversal of the ray, so a bigger budget gains nothing. */
+ * in descents (see tt_kd_budget in kd_trace_common.h). On the shared
+ * scenes' views (800x600, primary and shadow rays) 98-100 % of the rays
+ * need none, all but a few in 1e5 need fewer than 16 and none needs 256,
+ * so none falls back (tests/accel/kdtree/test_fallback_views.c keeps
+ * watch); on a scene 1e5 from the origin, whose split planes all lie
+ * within one rounding band, nearly every ray would need thousands and
+ * falls back instead. A fallback costs about one more traversal of the
+ * ray, so a bigger budget gains nothing. */
 #define TT_KD_SPARE 256u
 #endif
 

@@ -49,10 +49,18 @@ typedef struct tt_kd_key {
     float err; /* rounding band of t (kd_ray.h): the true crossing is within t +- err */
 } tt_kd_key;
 
-/* The rounding band of the crossing of plane x_k = p (kd_ray.h's e). */
+/* The rounding band of a crossing of plane x_k = p (kd_ray.h's e) from
+ * the ray's per-axis factors band |inv_k| and |o_k|: a descent takes them
+ * once and then pays one multiply-add a plane. Every band goes through
+ * here, so a descent and a re-descent count the same near planes. */
+TT_HD float tt_kd_cross_err_of(float band_inv, float abs_org, float p)
+{
+    return band_inv * (fabsf(p) + abs_org);
+}
+
 TT_HD float tt_kd_cross_err(const tt_wray *r, int k, float p)
 {
-    return TT_KD_BAND * fabsf(r->inv[k]) * (fabsf(p) + fabsf(r->org[k]));
+    return tt_kd_cross_err_of(TT_KD_BAND * fabsf(r->inv[k]), fabsf(r->org[k]), p);
 }
 
 /* Whether crossing c may, for the true ray, come on the other side of
@@ -225,13 +233,13 @@ TT_HD tt_kd_node TT_VARIANT(tt_kd_descend)(const tt_kd_view *T, const tt_wray *r
     tt_kd_node n = T->nodes[i];
     tt_kd_key te = *texit, te2 = {TT_INF, 3, 0.0f, 0.0f};
     int box_exit = 1;
-    /* tt_kd_cross_err's factors, bit for bit: band |inv_k| and |o_k|. */
+    /* tt_kd_cross_err's per-axis factors, taken once per descent. */
     float bi[3], ao[3];
     for (int k = 0; k < 3; k++) {
         bi[k] = TT_KD_BAND * fabsf(r->inv[k]);
         ao[k] = fabsf(r->org[k]);
     }
-    const float e_t = tentry->t, e_err = tentry->err;
+    const float e_t = tentry->t;
     (void)stats;
     while (!tt_kd_is_leaf(n.bits)) {
         TT_COUNT(stats, interior, 1);
@@ -248,14 +256,12 @@ TT_HD tt_kd_node TT_VARIANT(tt_kd_descend)(const tt_kd_view *T, const tt_wray *r
             }
         } else {
             const float ct = (split - r->org[k]) * r->inv[k];
-            const float cerr = bi[k] * (fabsf(split) + ao[k]);
             tt_kd_key c;
             c.t = ct;
             c.rank = ord->rank[k];
             c.pos = d < 0.0f ? -split : split;
-            c.err = cerr;
-            const int near = fabsf(ct - e_t) <= cerr + e_err;
-            if (near) {
+            c.err = tt_kd_cross_err_of(bi[k], ao[k], split);
+            if (tt_kd_near(&c, tentry)) {
                 amb->all++;
                 amb->other += (unsigned)!tt_kd_key_same(&c, tentry);
             }
