@@ -8,8 +8,9 @@
 
 int bench_result_ok(const bench_result *r) { return r && r->ok; }
 
-const bench_result *bench_report_find(const bench_report *rp, size_t scene, size_t view,
-                                      bench_size size, tt_build_options build, bench_rays rays)
+const bench_result *bench_report_find_on(const bench_report *rp, size_t scene, size_t view,
+                                         bench_size size, tt_build_options build, bench_rays rays,
+                                         tt_device device)
 {
     bench_run key;
     memset(&key, 0, sizeof key);
@@ -18,8 +19,15 @@ const bench_result *bench_report_find(const bench_report *rp, size_t scene, size
     key.size = size;
     key.build = build;
     key.rays = rays;
+    key.device = device;
     const bench_run *run = bench_matrix_find(rp->m, &key);
     return run ? &rp->r->items[run - rp->m->runs] : NULL;
+}
+
+const bench_result *bench_report_find(const bench_report *rp, size_t scene, size_t view,
+                                      bench_size size, tt_build_options build, bench_rays rays)
+{
+    return bench_report_find_on(rp, scene, view, size, build, rays, TT_DEVICE_CPU);
 }
 
 static int why_not(FILE *f, const bench_result *r)

@@ -16,9 +16,14 @@ typedef struct bench_report {
     FILE *err;
 } bench_report;
 
-/* The result of the run with these fields; NULL if the matrix has none. */
+/* The result of the run with these fields on the CPU; NULL if the matrix
+ * has none. */
 const bench_result *bench_report_find(const bench_report *rp, size_t scene, size_t view,
                                       bench_size size, tt_build_options build, bench_rays rays);
+/* The same on `device`. */
+const bench_result *bench_report_find_on(const bench_report *rp, size_t scene, size_t view,
+                                         bench_size size, tt_build_options build, bench_rays rays,
+                                         tt_device device);
 /* "0.412 s", or why there is no number: "n/a" (structure not in this
  * build), "error", "-" (not run). */
 void bench_cell_time(FILE *f, const bench_result *r);

@@ -2,36 +2,17 @@
  * 1-3 with ours beside them, the kd-tree traversals of Havran & Bittner's
  * Table 1 on the GPU, and every GPU run with its upload time, Mrays/s and
  * the CPU's time for the same configuration. */
-#include <string.h>
-
 #include "bench/bench_report.h"
 
 static const tt_rtree_strategy strategies[5] = {TT_RTREE_MIN_VOLUME, TT_RTREE_MIN_SURFACE,
                                                 TT_RTREE_MIN_OVERLAP, TT_RTREE_RSTAR,
                                                 TT_RTREE_RSTAR_SURFACE};
 
-/* The result of the run with these fields on `device`; NULL if none. */
-static const bench_result *find_on(const bench_report *rp, size_t scene, size_t view,
-                                   bench_size size, tt_build_options build, bench_rays rays,
-                                   tt_device device)
-{
-    bench_run key;
-    memset(&key, 0, sizeof key);
-    key.scene = scene;
-    key.view = view;
-    key.size = size;
-    key.build = build;
-    key.rays = rays;
-    key.device = device;
-    const bench_run *run = bench_matrix_find(rp->m, &key);
-    return run ? &rp->r->items[run - rp->m->runs] : NULL;
-}
-
 static const bench_result *gpu_rtree(const bench_report *rp, size_t s, size_t v,
                                      tt_rtree_strategy st, int reinsert, tt_rtree_traversal t)
 {
-    return find_on(rp, s, v, rp->o->rtree_size, bench_rtree_build(st, reinsert, t),
-                   BENCH_PRIMARY_SHADOW, TT_DEVICE_GPU);
+    return bench_report_find_on(rp, s, v, rp->o->rtree_size, bench_rtree_build(st, reinsert, t),
+                                BENCH_PRIMARY_SHADOW, TT_DEVICE_GPU);
 }
 
 static void paper_cell(FILE *f, double v)
@@ -162,9 +143,9 @@ static void gpu_havran(const bench_report *rp)
         const bench_scene *sc = &rp->s->items[s];
         for (size_t v = 0; v < sc->view_count; v++) {
             const bench_result *gh =
-                find_on(rp, s, v, rp->o->kd_size, htr, BENCH_PRIMARY, TT_DEVICE_GPU);
+                bench_report_find_on(rp, s, v, rp->o->kd_size, htr, BENCH_PRIMARY, TT_DEVICE_GPU);
             const bench_result *gs =
-                find_on(rp, s, v, rp->o->kd_size, sltr, BENCH_PRIMARY, TT_DEVICE_GPU);
+                bench_report_find_on(rp, s, v, rp->o->kd_size, sltr, BENCH_PRIMARY, TT_DEVICE_GPU);
             fprintf(f, "| %s | %s |", sc->name, sc->views[v].name);
             bench_cell_time(f, gh);
             bench_cell_time(f, gs);
