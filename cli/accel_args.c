@@ -102,6 +102,15 @@ int cli_accel_args_parse(cli_args *a, cli_accel_args *x, int *taken)
         x->traversal = cli_value(a, "--traversal");
         return x->traversal ? CLI_OK : CLI_USAGE;
     }
+    if (cli_is(a, "--isa")) {
+        const char *v = cli_value(a, "--isa");
+        if (!v) return CLI_USAGE;
+        if (!tt_isa_from_name(v, &x->build.isa))
+            return cli_usage_error(a->cmd,
+                                   "option --isa: unknown value '%s' (auto, scalar, sse4.2, avx2, "
+                                   "avx512)", v);
+        return CLI_OK;
+    }
     for (int k = 0; k < COUNT(rtree_opts); k++) {
         if (cli_is(a, rtree_opts[k])) {
             const char *v = cli_value(a, rtree_opts[k]);
@@ -174,6 +183,7 @@ int cli_accel_args_finish(const char *cmd, cli_accel_args *x)
 
 void cli_accel_args_emit(cli_emit *e, const tt_build_options *b)
 {
+    emit_str(e, "isa_requested", tt_isa_name(b->isa));
     if (strcmp(b->accel, "rtree") == 0) {
         const tt_rtree_options *r = &b->rtree;
         emit_str(e, "strategy", strategies[r->strategy]);
@@ -203,6 +213,8 @@ void cli_accel_args_help(FILE *out)
     fprintf(out,
             "structure:\n"
             "  --accel NAME             bruteforce, rtree, kdtree, embree (default: rtree if built)\n"
+            "  --isa NAME               SIMD kernels: auto|scalar|sse4.2|avx2|avx512 (default\n"
+            "                           auto: the best this CPU runs; output key isa)\n"
             "  --traversal NAME         rtree: auto|stackless|ordered|stack (default auto);\n"
             "                           kdtree: htr|btr|sltr|seq (default htr)\n"
             "R-tree (--accel rtree):\n"

@@ -247,6 +247,7 @@ static void emit_results(const render_args *r, const char *scene_path, const tt_
     emit_u64(&e, "vertices", tt_scene_vertex_count(scene));
     emit_num(&e, "load_s", load_s);
     emit_str(&e, "accel", tt_accel_name(accel));
+    emit_str(&e, "isa", tt_isa_name(tt_accel_isa(accel)));
     cli_accel_args_emit(&e, &r->accel.build);
     emit_num(&e, "build_s", tt_accel_build_seconds(accel));
     emit_u64(&e, "accel_bytes", tt_accel_memory_bytes(accel));

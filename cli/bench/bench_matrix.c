@@ -72,6 +72,10 @@ tt_build_options bench_rtree_build(tt_rtree_strategy s, int reinsert, tt_rtree_t
     tt_build_options b;
     tt_build_options_default(&b);
     b.accel = "rtree";
+    /* Feldmann's configuration, whatever the library's default engine is:
+     * built by insertion, packed into the complete level-order layout. */
+    b.rtree.build = TT_RTREE_BUILD_INSERT;
+    b.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
     b.rtree.strategy = s;
     b.rtree.reinsert = reinsert;
     b.rtree.traversal = t;

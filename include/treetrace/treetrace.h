@@ -157,7 +157,29 @@ typedef enum tt_rtree_traversal {
     TT_RTREE_STACK
 } tt_rtree_traversal;
 
+/* How the R-tree is built: by insertion (Feldmann 2015: Guttman / R*-tree
+ * with the strategies above, forced reinsert), or bulk-loaded for a static
+ * scene: STR (Leutenegger et al. 1997), Hilbert-sorted packing (Kamel &
+ * Faloutsos 1993) or top-down by the surface area heuristic. Every builder
+ * keeps the R-tree's rules: all leaves on one level, m..M entries a node. */
+typedef enum tt_rtree_build {
+    TT_RTREE_BUILD_INSERT = 0,
+    TT_RTREE_BUILD_STR,
+    TT_RTREE_BUILD_HILBERT,
+    TT_RTREE_BUILD_SAH
+} tt_rtree_build;
+
+/* Where the built tree lives: the paper's complete M-ary level-order array
+ * (empty slots included; stackless index arithmetic), or the compact wide
+ * layout of real nodes only (child boxes in SoA, triangles in SIMD blocks). */
+typedef enum tt_rtree_layout {
+    TT_RTREE_LAYOUT_COMPLETE = 0,
+    TT_RTREE_LAYOUT_COMPACT
+} tt_rtree_layout;
+
 typedef struct tt_rtree_options {
+    tt_rtree_build build;       /* default TT_RTREE_BUILD_INSERT               */
+    tt_rtree_layout layout;     /* default TT_RTREE_LAYOUT_COMPLETE            */
     tt_rtree_strategy strategy; /* default TT_RTREE_RSTAR_SURFACE              */
     int m, M;                   /* default 2, 4; 2 <= m <= M/2, M <= 16        */
     int reinsert;               /* forced reinsert, default 1                  */
@@ -167,7 +189,9 @@ typedef struct tt_rtree_options {
     tt_rtree_traversal traversal;
 } tt_rtree_options;
 
-typedef enum tt_kd_builder { TT_KD_NLOGN = 0, TT_KD_NLOG2N } tt_kd_builder;
+/* The exact SAH builders (Wald & Havran 2006) give the identical tree;
+ * TT_KD_BINNED approximates the SAH with binned candidates (faster build). */
+typedef enum tt_kd_builder { TT_KD_NLOGN = 0, TT_KD_NLOG2N, TT_KD_BINNED } tt_kd_builder;
 
 typedef enum tt_kd_traversal {
     TT_KD_HTR = 0, /* stack-based hierarchical (Algorithm 1)                  */
@@ -191,8 +215,30 @@ typedef struct tt_kdtree_options {
                             /* with htr, which uses no boxes); default 0      */
 } tt_kdtree_options;
 
+/* The SIMD instruction set a structure's kernels use. One binary holds the
+ * kernels of every ISA (compiled in separate units); TT_ISA_AUTO picks the
+ * best one this CPU supports, once, at build time of the structure. Every
+ * path returns the same hits (the watertight test, bit for bit). */
+typedef enum tt_isa {
+    TT_ISA_AUTO = 0,
+    TT_ISA_SCALAR, /* portable C: also the code the GPU runs                  */
+    TT_ISA_SSE42,
+    TT_ISA_AVX2,   /* AVX2 + FMA                                             */
+    TT_ISA_AVX512  /* AVX-512 F, VL, BW, DQ                                  */
+} tt_isa;
+
+/* "auto", "scalar", "sse4.2", "avx2", "avx512"; "" for an unknown value. */
+const char *tt_isa_name(tt_isa isa);
+/* 1 and *out for a known name ("auto" included), 0 for an unknown one. */
+int tt_isa_from_name(const char *name, tt_isa *out);
+/* 1 when this build has kernels for isa and this CPU can run them. */
+int tt_isa_supported(tt_isa isa);
+/* The best ISA tt_isa_supported accepts (what TT_ISA_AUTO resolves to). */
+tt_isa tt_isa_best(void);
+
 typedef struct tt_build_options {
     const char *accel; /* "bruteforce", "rtree", "kdtree", "embree"           */
+    tt_isa isa;        /* default TT_ISA_AUTO                                 */
     tt_rtree_options rtree;
     tt_kdtree_options kdtree;
 } tt_build_options;
@@ -207,6 +253,8 @@ tt_status tt_accel_build(tt_context *ctx, const tt_scene *scene,
 void tt_accel_destroy(tt_accel *accel);
 const char *tt_accel_name(const tt_accel *accel);
 double tt_accel_build_seconds(const tt_accel *accel);
+/* The ISA the structure's kernels run on (TT_ISA_AUTO resolved). */
+tt_isa tt_accel_isa(const tt_accel *accel);
 size_t tt_accel_memory_bytes(const tt_accel *accel);
 /* Verifies every invariant of the built structure; TT_ERR_INVARIANT with the
  * context's last error naming the first broken one. */

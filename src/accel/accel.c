@@ -1,5 +1,6 @@
 /* The registry of structures and the public calls that dispatch to them. */
 #include "accel/accel.h"
+#include "core/isa.h"
 
 #include <math.h>
 #include <string.h>
@@ -35,6 +36,9 @@ void tt_build_options_default(tt_build_options *o)
 {
     memset(o, 0, sizeof *o);
     o->accel = "rtree";
+    o->isa = TT_ISA_AUTO;
+    o->rtree.build = TT_RTREE_BUILD_INSERT;
+    o->rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
     o->rtree.strategy = TT_RTREE_RSTAR_SURFACE;
     o->rtree.m = 2;
     o->rtree.M = 4;
@@ -74,12 +78,16 @@ tt_status tt_accel_build(tt_context *ctx, const tt_scene *scene, const tt_build_
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "unknown accel '%s'",
                         options->accel ? options->accel : "(null)");
     }
+    tt_isa isa;
+    tt_status ist = tt_isa_resolve(ctx, options->isa, &isa);
+    if (ist != TT_OK) return ist;
     tt_accel *a = tt_calloc(ctx, 1, sizeof *a);
     if (!a) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "out of memory");
     a->vt = vt;
     a->ctx = ctx;
     a->scene = scene;
     a->options = *options;
+    a->isa = isa;
     a->options.accel = vt->name; /* the caller's string need not outlive us */
     double t0 = tt_now();
     tt_status st = vt->build(a);
@@ -102,6 +110,7 @@ void tt_accel_destroy(tt_accel *accel)
 
 const char *tt_accel_name(const tt_accel *accel) { return accel ? accel->vt->name : ""; }
 double tt_accel_build_seconds(const tt_accel *accel) { return accel ? accel->build_s : 0.0; }
+tt_isa tt_accel_isa(const tt_accel *accel) { return accel ? accel->isa : TT_ISA_SCALAR; }
 size_t tt_accel_memory_bytes(const tt_accel *accel) { return accel ? accel->vt->memory(accel) : 0; }
 
 tt_status tt_accel_check(const tt_accel *accel)

@@ -39,6 +39,7 @@ struct tt_accel {
     tt_context *ctx;
     const tt_scene *scene;
     tt_build_options options;
+    tt_isa isa; /* options.isa resolved (core/isa.h) before build runs */
     double build_s;
     void *impl;
 };

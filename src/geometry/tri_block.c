@@ -1,0 +1,33 @@
+/* Packing triangles into SIMD blocks (see geometry/tri_block.h). */
+#include "geometry/tri_block.h"
+
+#include <math.h>
+
+int tt_tri_is_degenerate(const float *a, const float *b, const float *c)
+{
+    /* The very expression tt_intersect_triangle refuses a hit with. */
+    const float e1x = b[0] - a[0], e1y = b[1] - a[1], e1z = b[2] - a[2];
+    const float e2x = c[0] - a[0], e2y = c[1] - a[1], e2z = c[2] - a[2];
+    return e1y * e2z - e1z * e2y == 0.0f && e1z * e2x - e1x * e2z == 0.0f &&
+           e1x * e2y - e1y * e2x == 0.0f;
+}
+
+void tt_tri_block_pack(const float *tri, const uint32_t *ids, uint32_t n, tt_tri_block *out)
+{
+    const uint32_t blocks = tt_tri_block_count(n);
+    for (uint32_t j = 0; j < blocks; j++) {
+        tt_tri_block *b = &out[j];
+        for (uint32_t i = 0; i < TT_TRI_BLOCK_W; i++) {
+            const uint32_t k = j * TT_TRI_BLOCK_W + i;
+            if (k < n) {
+                const float *v = tri + 9 * (size_t)ids[k];
+                const int dead = tt_tri_is_degenerate(v, v + 3, v + 6);
+                for (int c = 0; c < 9; c++) b->v[c][i] = dead ? NAN : v[c];
+                b->prim[i] = ids[k];
+            } else {
+                for (int c = 0; c < 9; c++) b->v[c][i] = NAN;
+                b->prim[i] = TT_INVALID_ID;
+            }
+        }
+    }
+}

@@ -1,0 +1,90 @@
+/* Triangles in blocks of TT_TRI_BLOCK_W for SIMD intersection, shared by the
+ * engines' leaves (R-tree compact layout, kd-tree leaves): the block's
+ * vertices in structure-of-arrays form, one lane a triangle, so a kernel
+ * loads each coordinate of all lanes with one vector load.
+ *
+ * The test is the project's watertight one (geometry/triangle.h) evaluated
+ * lane by lane with the same operations in the same order, so every ISA path
+ * returns bit for bit the hits tt_intersect_triangle returns:
+ *  - the shear needs the ray, so nothing ray-dependent can be precomputed;
+ *    a block holds plain vertices (36 bytes a triangle) and its ids;
+ *  - a lane with a zero edge function is re-tested by tt_intersect_triangle
+ *    itself (its double-precision recomputation), as rarely happens;
+ *  - zero-area triangles never hit (tt_intersect_triangle refuses them after
+ *    the t test); tt_tri_block_pack gives them NaN vertices instead, so no
+ *    kernel needs that test, and unused lanes are NaN too (prim =
+ *    TT_INVALID_ID): a NaN lane fails the t test in every kernel;
+ *  - ties at equal t go to the lowest lane of the first block, as a scalar
+ *    loop in lane order with a strict < would give.
+ *
+ * Per-ISA kernels (tri_block_sse42.h, _avx2.h, _avx512.h) are static inline
+ * functions with the signatures of the scalar ones below, for inclusion in a
+ * structure's own *_sse42.c / *_avx2.c / *_avx512.c units. */
+#ifndef TT_GEOMETRY_TRI_BLOCK_H
+#define TT_GEOMETRY_TRI_BLOCK_H
+
+#include <stdint.h>
+
+#include "geometry/hd.h"
+#include "geometry/ray.h"
+#include "geometry/triangle.h"
+#include "treetrace/treetrace.h" /* tt_hit, TT_INVALID_ID */
+
+#define TT_TRI_BLOCK_W 8
+
+typedef struct tt_tri_block {
+    float v[9][TT_TRI_BLOCK_W]; /* a.x a.y a.z b.x b.y b.z c.x c.y c.z, lanes */
+    uint32_t prim[TT_TRI_BLOCK_W]; /* load-order id; TT_INVALID_ID: unused    */
+} tt_tri_block; /* 320 bytes; arrays of blocks are allocated 64-byte aligned */
+
+/* Blocks needed for n triangles. */
+TT_HD uint32_t tt_tri_block_count(uint32_t n) { return (n + TT_TRI_BLOCK_W - 1) / TT_TRI_BLOCK_W; }
+
+/* Fills tt_tri_block_count(n) blocks with triangles ids[0..n) of the scene's
+ * flat array tri (9 floats a triangle): lane i of block j holds ids[8j + i].
+ * Zero-area triangles and unused lanes get NaN vertices (see above). */
+void tt_tri_block_pack(const float *tri, const uint32_t *ids, uint32_t n, tt_tri_block *out);
+
+/* 1 when triangle (a, b, c) can never be hit by tt_intersect_triangle
+ * (its unsheared normal is exactly zero in float). */
+int tt_tri_is_degenerate(const float *a, const float *b, const float *c);
+
+/* Closest hit among `count` blocks on [r->tmin, hit->t): updates *hit (t,
+ * u, v, prim) when a lane is nearer than hit->t; returns 1 if it did. */
+TT_HD int tt_tri_blocks_intersect_scalar(const tt_wray *r, const tt_tri_block *b,
+                                         uint32_t count, tt_hit *hit)
+{
+    int found = 0;
+    for (uint32_t j = 0; j < count; j++)
+        for (int i = 0; i < TT_TRI_BLOCK_W; i++) {
+            const float a[3] = {b[j].v[0][i], b[j].v[1][i], b[j].v[2][i]};
+            const float bb[3] = {b[j].v[3][i], b[j].v[4][i], b[j].v[5][i]};
+            const float c[3] = {b[j].v[6][i], b[j].v[7][i], b[j].v[8][i]};
+            float t, u, v;
+            if (tt_intersect_triangle(r, a, bb, c, hit->t, &t, &u, &v)) {
+                hit->t = t;
+                hit->u = u;
+                hit->v = v;
+                hit->prim = b[j].prim[i];
+                found = 1;
+            }
+        }
+    return found;
+}
+
+/* Any hit among `count` blocks on [r->tmin, tmax): 1 or 0. */
+TT_HD int tt_tri_blocks_occluded_scalar(const tt_wray *r, const tt_tri_block *b, uint32_t count,
+                                        float tmax)
+{
+    for (uint32_t j = 0; j < count; j++)
+        for (int i = 0; i < TT_TRI_BLOCK_W; i++) {
+            const float a[3] = {b[j].v[0][i], b[j].v[1][i], b[j].v[2][i]};
+            const float bb[3] = {b[j].v[3][i], b[j].v[4][i], b[j].v[5][i]};
+            const float c[3] = {b[j].v[6][i], b[j].v[7][i], b[j].v[8][i]};
+            float t, u, v;
+            if (tt_intersect_triangle(r, a, bb, c, tmax, &t, &u, &v)) return 1;
+        }
+    return 0;
+}
+
+#endif
