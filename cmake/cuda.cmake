@@ -10,7 +10,7 @@ set(TT_CUDA_WANTED_ARCHS 70 75 80 90)
 
 function(tt_cuda_disable reason)
   message(STATUS "treetrace: GPU backend not built: ${reason}")
-  target_compile_definitions(treetrace PRIVATE TT_NO_CUDA_REASON="${reason}")
+  target_compile_definitions(treetrace_objects PRIVATE TT_NO_CUDA_REASON="${reason}")
 endfunction()
 
 if(NOT TT_WITH_CUDA)
@@ -104,7 +104,11 @@ target_include_directories(treetrace_cuda PRIVATE
 target_compile_definitions(treetrace_cuda PRIVATE TT_CUDA_ARCHS="${tt_arch_text}")
 target_link_libraries(treetrace_cuda PUBLIC CUDA::cudart_static)
 target_link_libraries(treetrace PRIVATE treetrace_cuda)
-# treetrace was created before CUDA was enabled; it has no CUDA sources, but
-# CMake wants the property on every target once the language is on.
-set_property(TARGET treetrace PROPERTY CUDA_ARCHITECTURES "${CMAKE_CUDA_ARCHITECTURES}")
-target_compile_definitions(treetrace PUBLIC TT_HAVE_CUDA=1)
+target_link_libraries(treetrace_shared PRIVATE treetrace_cuda)
+# The libraries were created before CUDA was enabled; they have no CUDA
+# sources, but CMake wants the property on every target once the language is on.
+set_property(TARGET treetrace treetrace_shared treetrace_objects
+  PROPERTY CUDA_ARCHITECTURES "${CMAKE_CUDA_ARCHITECTURES}")
+target_compile_definitions(treetrace_objects PUBLIC TT_HAVE_CUDA=1)
+target_compile_definitions(treetrace PUBLIC $<BUILD_INTERFACE:TT_HAVE_CUDA=1>)
+set(TT_BUILT_WITH_CUDA ON)

@@ -25,6 +25,13 @@
 extern "C" {
 #endif
 
+/* Everything declared here is the shared library's interface: the library
+ * is compiled with hidden visibility, so only these tt_ functions are
+ * exported (libtreetrace.so); internal functions stay internal. */
+#if defined(__GNUC__) || defined(__clang__)
+#pragma GCC visibility push(default)
+#endif
+
 #define TT_VERSION_MAJOR 0
 #define TT_VERSION_MINOR 1
 #define TT_VERSION_PATCH 0
@@ -287,6 +294,80 @@ tt_status tt_occluded1_ex(const tt_accel *accel, const tt_ray *ray, int *occlude
 /* The start hint for rays from one point (e.g. all primary rays from the eye). */
 uint32_t tt_accel_locate(const tt_accel *accel, const float point[3]);
 
+/* ----------------------------------------------------------------- batches */
+
+/* Batches trace n rays on the context's threads (tt_context_options.threads;
+ * OpenMP) and write one result per ray. Every result equals what
+ * tt_intersect1_ex / tt_occluded1_ex give for that ray with the same start
+ * hint (with the default options: tt_intersect1 / tt_occluded1), whatever
+ * the structure, ISA or thread count.
+ *
+ * Errors: NULL accel, NULL rays or results with n > 0, or bad options
+ * return TT_ERR_INVALID_ARGUMENT before tracing anything. A ray breaking
+ * tt_ray's contract does not stop the batch: that ray gets a miss (t +inf,
+ * u = v = 0, prim TT_INVALID_ID; not occluded) and, when ray_status is not
+ * NULL, ray_status[i] = TT_ERR_INVALID_ARGUMENT (TT_OK for the others);
+ * every other ray is traced as usual; the call then returns
+ * TT_ERR_INVALID_ARGUMENT with the context's message naming the first bad
+ * ray's index and cause ("ray 17 of 100: ray with a negative tmin ..."). */
+typedef struct tt_batch_options {
+    /* Start hint of every ray (kd-tree: e.g. tt_accel_locate of the rays'
+     * common origin); TT_INVALID_ID (default): the structure's root. */
+    uint32_t start_hint;
+    /* When not NULL, the counting variant traces the batch and adds the
+     * rays' counts here (slower; the default fast path never counts). */
+    tt_ray_stats *stats;
+    /* Consecutive rays a thread takes at a time; 0 (default): 64. */
+    uint32_t chunk;
+} tt_batch_options;
+
+void tt_batch_options_default(tt_batch_options *options);
+
+/* Array-of-structures form. hits[i] / occluded[i] (1 or 0) for rays[i];
+ * ray_status may be NULL; options NULL for the defaults. */
+tt_status tt_intersect(const tt_accel *accel, const tt_ray *rays, size_t n, tt_hit *hits,
+                       tt_status *ray_status, const tt_batch_options *options);
+tt_status tt_occluded(const tt_accel *accel, const tt_ray *rays, size_t n, uint8_t *occluded,
+                      tt_status *ray_status, const tt_batch_options *options);
+
+/* Strided form: any layout (structure of arrays, an N x 3 array, tt_ray
+ * itself, numpy views) without copying. Ray i's origin is the three floats
+ * at org[k] + i * org_stride bytes (k = 0, 1, 2 for x, y, z), likewise dir;
+ * strides are in bytes and may be 0 (one value for every ray, e.g. the
+ * common origin of camera rays) or negative. tmin NULL: 0 for every ray;
+ * tmax NULL: +inf. */
+typedef struct tt_ray_arrays {
+    const float *org[3];
+    ptrdiff_t org_stride;
+    const float *dir[3];
+    ptrdiff_t dir_stride;
+    const float *tmin; /* may be NULL                                        */
+    ptrdiff_t tmin_stride;
+    const float *tmax; /* may be NULL                                        */
+    ptrdiff_t tmax_stride;
+} tt_ray_arrays;
+
+/* Where ray i's result goes: element i is at pointer + i * stride bytes.
+ * A NULL pointer is not written (e.g. only prim and t wanted). */
+typedef struct tt_hit_arrays {
+    float *t;
+    ptrdiff_t t_stride;
+    float *u;
+    ptrdiff_t u_stride;
+    float *v;
+    ptrdiff_t v_stride;
+    uint32_t *prim;
+    ptrdiff_t prim_stride;
+} tt_hit_arrays;
+
+tt_status tt_intersect_arrays(const tt_accel *accel, const tt_ray_arrays *rays, size_t n,
+                              const tt_hit_arrays *hits, tt_status *ray_status,
+                              const tt_batch_options *options);
+/* occluded[i * occluded_stride] = 1 or 0 (stride in bytes, 0 means 1). */
+tt_status tt_occluded_arrays(const tt_accel *accel, const tt_ray_arrays *rays, size_t n,
+                             uint8_t *occluded, ptrdiff_t occluded_stride,
+                             tt_status *ray_status, const tt_batch_options *options);
+
 /* ------------------------------------------------------------ camera, views */
 
 typedef struct tt_camera {
@@ -303,6 +384,10 @@ typedef struct tt_camera {
  * direction, fov outside (0, 180) degrees. */
 tt_status tt_camera_ray(const tt_camera *camera, uint32_t width, uint32_t height,
                         uint32_t x, uint32_t y, tt_ray *out);
+/* The primary rays of a whole image, row-major from the top-left (width x
+ * height rays, out[y * width + x] = tt_camera_ray's ray of pixel (x, y)):
+ * the rays tt_render traces, for tracing them with the batch calls. */
+tt_status tt_camera_rays(const tt_camera *camera, uint32_t width, uint32_t height, tt_ray *out);
 /* A camera framing the scene's bounding box, light above-left of the eye. */
 void tt_camera_frame_scene(const tt_scene *scene, tt_camera *out);
 /* Shadow ray from a primary hit, per the conventions. Returns 0 and leaves
@@ -395,6 +480,10 @@ tt_status tt_write_file(tt_context *ctx, const char *path, const void *data, siz
 /* False-colour heatmap (0 dark blue .. >= 255 dark red) with a colour bar. */
 tt_status tt_write_heatmap_png(tt_context *ctx, const char *path, const uint32_t *counts,
                                uint32_t width, uint32_t height);
+
+#if defined(__GNUC__) || defined(__clang__)
+#pragma GCC visibility pop
+#endif
 
 #ifdef __cplusplus
 }

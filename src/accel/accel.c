@@ -1,8 +1,8 @@
 /* The registry of structures and the public calls that dispatch to them. */
 #include "accel/accel.h"
+#include "accel/ray_check.h"
 #include "core/isa.h"
 
-#include <math.h>
 #include <string.h>
 
 static const tt_accel_vtable *const registry[] = {
@@ -134,23 +134,9 @@ uint32_t tt_accel_locate(const tt_accel *accel, const float point[3])
 
 static tt_status prepare(const tt_accel *accel, const tt_ray *ray, tt_wray *w)
 {
-    for (int i = 0; i < 3; i++)
-        if (!isfinite(ray->org[i]) || !isfinite(ray->dir[i]))
-            return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT,
-                            "ray with a non-finite origin or direction");
-    if (ray->dir[0] == 0.0f && ray->dir[1] == 0.0f && ray->dir[2] == 0.0f)
-        return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT, "ray with a zero direction");
-    /* The ray contract (treetrace.h, tt_ray): t in [tmin, tmax) with
-     * 0 <= tmin. Rays start at their origin, as in Embree, whose traversal
-     * cannot look behind it; a caller wanting hits behind a point moves the
-     * origin back. tmin >= tmax (also +inf) is a legal empty interval. */
-    if (isnan(ray->tmin) || isnan(ray->tmax))
-        return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT,
-                        "ray with a NaN interval (tmin %g, tmax %g)", ray->tmin, ray->tmax);
-    if (ray->tmin < 0.0f)
-        return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT,
-                        "ray with a negative tmin (%g): rays start at their origin, tmin >= 0",
-                        ray->tmin);
+    char why[160];
+    if (tt_ray_check(ray->org, ray->dir, ray->tmin, ray->tmax, why, sizeof why) != TT_OK)
+        return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT, "%s", why);
     tt_wray_init(w, ray->org, ray->dir, ray->tmin, ray->tmax);
     return TT_OK;
 }

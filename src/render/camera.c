@@ -36,6 +36,20 @@ tt_status tt_camera_ray(const tt_camera *c, uint32_t width, uint32_t height, uin
     return TT_OK;
 }
 
+tt_status tt_camera_rays(const tt_camera *c, uint32_t width, uint32_t height, tt_ray *out)
+{
+    if (!c || !out || width == 0 || height == 0 || tt_camera_problem(c))
+        return TT_ERR_INVALID_ARGUMENT;
+    tt_camera_basis b;
+    tt_camera_basis_init(&b, c, width, height);
+    const long rows = (long)height;
+#pragma omp parallel for schedule(static)
+    for (long y = 0; y < rows; y++)
+        for (uint32_t x = 0; x < width; x++)
+            tt_camera_basis_ray(&b, x, (uint32_t)y, out + (size_t)y * width + x);
+    return TT_OK;
+}
+
 int tt_shadow_ray_eps(const tt_scene *scene, const tt_camera *c, float eps,
                       const tt_ray *primary, const tt_hit *hit, tt_ray *out)
 {
