@@ -317,8 +317,15 @@ typedef struct tt_batch_options {
     /* When not NULL, the counting variant traces the batch and adds the
      * rays' counts here (slower; the default fast path never counts). */
     tt_ray_stats *stats;
-    /* Consecutive rays a thread takes at a time; 0 (default): 64. */
+    /* Consecutive rays a thread takes at a time; 0 (default): up to 256,
+     * fewer for small batches so that every thread gets work. */
     uint32_t chunk;
+    /* 0 (default), or the width of an image whose rows the rays are
+     * (row-major, like tt_camera_rays'): threads then take 16 x 16 tiles of
+     * it instead of runs of consecutive rays, as tt_render does; neighbours
+     * in 2D visit the same nodes, so coherent rays trace faster. Results do
+     * not depend on it. */
+    uint32_t image_width;
 } tt_batch_options;
 
 void tt_batch_options_default(tt_batch_options *options);

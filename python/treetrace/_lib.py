@@ -67,7 +67,7 @@ class TraceArgs(ctypes.Structure):
 
 class BatchOptions(ctypes.Structure):
     _fields_ = [("start_hint", ctypes.c_uint32), ("stats", ctypes.POINTER(RayStats)),
-                ("chunk", ctypes.c_uint32)]
+                ("chunk", ctypes.c_uint32), ("image_width", ctypes.c_uint32)]
 
 
 class RayArrays(ctypes.Structure):

@@ -12,7 +12,64 @@
 
 #include <omp.h>
 
-#define DEFAULT_CHUNK 64u
+#define MAX_CHUNK 256u
+#define TILE 16u
+
+/* How the rays are cut into work items: runs of `chunk` consecutive rays,
+ * or TILE x TILE tiles of an image `width` rays wide. An item is `rows`
+ * runs of `len` rays, `pitch` rays apart. */
+typedef struct plan {
+    size_t n, chunk, width, tiles_x;
+    long items;
+} plan;
+
+static void plan_make(plan *p, size_t n, const tt_batch_options *o, int threads)
+{
+    p->n = n;
+    p->width = o->image_width;
+    if (p->width) {
+        size_t rows = (n + p->width - 1) / p->width;
+        p->tiles_x = (p->width + TILE - 1) / TILE;
+        p->items = (long)(p->tiles_x * ((rows + TILE - 1) / TILE));
+        p->chunk = 0;
+        return;
+    }
+    size_t chunk = o->chunk;
+    if (!chunk) {
+        /* at least 8 items a thread, for the dynamic schedule to balance */
+        chunk = n / ((size_t)threads * 8u);
+        chunk = chunk < 16u ? 16u : chunk > MAX_CHUNK ? MAX_CHUNK : chunk;
+    }
+    p->chunk = chunk;
+    p->tiles_x = 0;
+    p->items = (long)((n + chunk - 1) / chunk);
+}
+
+static void plan_item(const plan *p, long item, size_t *first, size_t *len, size_t *rows,
+                      size_t *pitch)
+{
+    if (!p->width) {
+        *first = (size_t)item * p->chunk;
+        *len = p->chunk;
+        *rows = 1;
+        *pitch = 0;
+        return;
+    }
+    size_t tx = (size_t)item % p->tiles_x, ty = (size_t)item / p->tiles_x;
+    size_t x0 = tx * TILE, y0 = ty * TILE;
+    *first = y0 * p->width + x0;
+    *len = p->width - x0 < TILE ? p->width - x0 : TILE;
+    *rows = TILE;
+    *pitch = p->width;
+}
+
+/* Every ray index of one work item, in order, clipped to the batch. */
+#define FOR_EACH_RAY(p, item, i)                                                               \
+    size_t first_, len_, rows_, pitch_;                                                        \
+    plan_item(p, item, &first_, &len_, &rows_, &pitch_);                                       \
+    for (size_t r_ = 0; r_ < rows_ && first_ + r_ * pitch_ < (p)->n; r_++)                     \
+        for (size_t i = first_ + r_ * pitch_, e_ = i + len_ < (p)->n ? i + len_ : (p)->n;      \
+             i < e_; i++)
 
 void tt_batch_options_default(tt_batch_options *o)
 {
@@ -89,6 +146,9 @@ static tt_status check_call(const tt_accel *accel, const tt_batch_options *o, co
     if (o && o->chunk > (1u << 30))
         return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT, "%s: chunk %u is too large", call,
                         o->chunk);
+    if (o && o->image_width > (1u << 30))
+        return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT, "%s: image_width %u is too large",
+                        call, o->image_width);
     return TT_OK;
 }
 
@@ -107,18 +167,17 @@ tt_status tt_intersect_arrays(const tt_accel *accel, const tt_ray_arrays *rays, 
     tt_batch_options_default(&def);
     const tt_batch_options *o = options ? options : &def;
     const tt_accel_vtable *vt = accel->vt;
-    const long chunk = (long)(o->chunk ? o->chunk : DEFAULT_CHUNK);
-    const long count = (long)((n + (size_t)chunk - 1) / (size_t)chunk);
+    const int threads = threads_of(accel);
+    plan p;
+    plan_make(&p, n, o, threads);
     size_t bad = SIZE_MAX, bad_count = 0;
-#pragma omp parallel num_threads(threads_of(accel)) reduction(min : bad) reduction(+ : bad_count)
+#pragma omp parallel num_threads(threads) reduction(min : bad) reduction(+ : bad_count)
     {
         tt_ray_stats local;
         memset(&local, 0, sizeof local);
 #pragma omp for schedule(dynamic)
-        for (long c = 0; c < count; c++) {
-            size_t end = ((size_t)c + 1) * (size_t)chunk;
-            if (end > n) end = n;
-            for (size_t i = (size_t)c * (size_t)chunk; i < end; i++) {
+        for (long c = 0; c < p.items; c++) {
+            FOR_EACH_RAY(&p, c, i) {
                 float org[3], dir[3], tmin, tmax;
                 tt_hit h;
                 load_ray(rays, i, org, dir, &tmin, &tmax);
@@ -166,18 +225,17 @@ tt_status tt_occluded_arrays(const tt_accel *accel, const tt_ray_arrays *rays, s
     tt_batch_options_default(&def);
     const tt_batch_options *o = options ? options : &def;
     const tt_accel_vtable *vt = accel->vt;
-    const long chunk = (long)(o->chunk ? o->chunk : DEFAULT_CHUNK);
-    const long count = (long)((n + (size_t)chunk - 1) / (size_t)chunk);
+    const int threads = threads_of(accel);
+    plan p;
+    plan_make(&p, n, o, threads);
     size_t bad = SIZE_MAX, bad_count = 0;
-#pragma omp parallel num_threads(threads_of(accel)) reduction(min : bad) reduction(+ : bad_count)
+#pragma omp parallel num_threads(threads) reduction(min : bad) reduction(+ : bad_count)
     {
         tt_ray_stats local;
         memset(&local, 0, sizeof local);
 #pragma omp for schedule(dynamic)
-        for (long c = 0; c < count; c++) {
-            size_t end = ((size_t)c + 1) * (size_t)chunk;
-            if (end > n) end = n;
-            for (size_t i = (size_t)c * (size_t)chunk; i < end; i++) {
+        for (long c = 0; c < p.items; c++) {
+            FOR_EACH_RAY(&p, c, i) {
                 float org[3], dir[3], tmin, tmax;
                 int occ = 0;
                 load_ray(rays, i, org, dir, &tmin, &tmax);

@@ -90,11 +90,15 @@ static void check_accel(tt_context *ctx, const tt_accel *accel, const tt_ray *ra
     }
     for (size_t b = 0; b < n_bad; b++) CHECK(st_one[bad[b]] == TT_ERR_INVALID_ARGUMENT);
 
-    static const uint32_t chunks[] = {0, 1, 7, 1000};
+    /* work cut into runs of consecutive rays, or into tiles of an image
+     * (also widths that divide neither the batch nor 16) */
+    static const uint32_t chunks[] = {0, 1, 7, 1000, 0, 0, 0};
+    static const uint32_t widths[] = {0, 0, 0, 0, W, 37, 1};
     for (size_t c = 0; c < sizeof chunks / sizeof chunks[0]; c++) {
         tt_batch_options bo;
         tt_batch_options_default(&bo);
         bo.chunk = chunks[c];
+        bo.image_width = widths[c];
         memset(many, 0xAB, n * sizeof *many);
         memset(occ_many, 0xAB, n);
         tt_status st = tt_intersect(accel, rays, n, many, st_many, &bo);
@@ -114,8 +118,9 @@ static void check_accel(tt_context *ctx, const tt_accel *accel, const tt_ray *ra
                 differ++;
             else if (st_one[i] != TT_OK && !hit_miss(&many[i])) differ++;
         }
-        CHECK_MSG(differ == 0, "%s chunk %u: %zu of %zu closest hits differ from tt_intersect1",
-                  what, chunks[c], differ, n);
+        CHECK_MSG(differ == 0,
+                  "%s chunk %u width %u: %zu of %zu closest hits differ from tt_intersect1", what,
+                  chunks[c], widths[c], differ, n);
 
         st = tt_occluded(accel, rays, n, occ_many, st_many, &bo);
         CHECK(st == (n_bad ? TT_ERR_INVALID_ARGUMENT : TT_OK));
@@ -125,8 +130,9 @@ static void check_accel(tt_context *ctx, const tt_accel *accel, const tt_ray *ra
             else if (st_one[i] == TT_OK && occ_many[i] != occ_one[i]) differ++;
             else if (st_one[i] != TT_OK && occ_many[i] != 0) differ++;
         }
-        CHECK_MSG(differ == 0, "%s chunk %u: %zu of %zu occlusions differ from tt_occluded1",
-                  what, chunks[c], differ, n);
+        CHECK_MSG(differ == 0,
+                  "%s chunk %u width %u: %zu of %zu occlusions differ from tt_occluded1", what,
+                  chunks[c], widths[c], differ, n);
     }
 
     /* Structure of arrays: x, y, z apart; tmin/tmax absent (0, +inf);
@@ -205,6 +211,7 @@ static void check_camera_batch(tt_context *ctx, const tt_scene *scene, const tt_
     tt_batch_options bo;
     tt_batch_options_default(&bo);
     bo.start_hint = tt_accel_locate(accel, cam->eye);
+    bo.image_width = W;
     tt_ray_arrays ra;
     memset(&ra, 0, sizeof ra);
     for (int k = 0; k < 3; k++) {
@@ -296,10 +303,15 @@ static void check_arguments(tt_context *ctx, const tt_accel *accel, const tt_ray
     CHECK(tt_occluded_arrays(accel, &ra, 1, &o, 1, NULL, NULL) == TT_ERR_INVALID_ARGUMENT);
     tt_batch_options bo;
     tt_batch_options_default(&bo);
-    CHECK(bo.start_hint == TT_INVALID_ID && bo.stats == NULL && bo.chunk == 0);
+    CHECK(bo.start_hint == TT_INVALID_ID && bo.stats == NULL && bo.chunk == 0 &&
+          bo.image_width == 0);
     bo.chunk = 0xFFFFFFFFu;
     CHECK(tt_intersect(accel, rays, 1, &h, NULL, &bo) == TT_ERR_INVALID_ARGUMENT);
     CHECK(strstr(tt_context_last_error(ctx), "chunk") != NULL);
+    bo.chunk = 0;
+    bo.image_width = 0xFFFFFFFFu;
+    CHECK(tt_occluded(accel, rays, 1, &o, NULL, &bo) == TT_ERR_INVALID_ARGUMENT);
+    CHECK(strstr(tt_context_last_error(ctx), "image_width") != NULL);
     /* one bad ray alone: its status, a miss, and the message */
     tt_ray bad = rays[0];
     bad.dir[0] = bad.dir[1] = bad.dir[2] = 0.0f;
