@@ -192,7 +192,7 @@ def _candidates():
         libdir = subprocess.run(["pkg-config", "--variable=libdir", "treetrace"],
                                 capture_output=True, text=True, check=True).stdout.strip()
         if libdir:
-            yield os.path.join(libdir, _SONAME)
+            yield os.path.join(os.path.normpath(libdir), _SONAME)
     except (OSError, subprocess.CalledProcessError):
         pass
     for prefix in ("/usr/local/lib", "/usr/local/lib64", "/usr/lib"):

@@ -3,9 +3,14 @@
 # runs a tiny consumer project against that copy: with find_package (the
 # shared and the static library), with pkg-config (the shared library,
 # nothing but the compiler and the .pc file), and runs the installed CLI.
-# Usage: install_and_consume.sh BUILD_DIR WORK_DIR C_COMPILER
+# Then compiles the README's C batch example against that copy and runs it
+# from the source root, and pip-installs the Python package (with Debian's
+# pip, no build isolation, nothing downloaded) and imports it against the
+# installed library, found through pkg-config.
+# Usage: install_and_consume.sh BUILD_DIR WORK_DIR C_COMPILER README [PYTHON]
 set -euo pipefail
-build="$1"; work="$2"; cc="$3"
+build="$1"; work="$2"; cc="$3"; readme="$4"; python="${5:-}"
+src="$(dirname "$readme")"
 here="$(cd "$(dirname "$0")" && pwd)"
 rm -rf "$work"; mkdir -p "$work"
 prefix="$work/prefix"
@@ -43,4 +48,31 @@ LD_LIBRARY_PATH="$libdir" "$work/consumer_pc"
 
 echo "== installed CLI"
 LD_LIBRARY_PATH="$libdir" "$prefix/bin/treetrace" --version
+
+echo "== README.md's C batch example against the installed copy"
+extract="$src/python/tests/readme_examples.py"
+python_for_extract="${python:-python3}"
+"$python_for_extract" "$extract" "$readme" batch.c > "$work/batch.c"
+# shellcheck disable=SC2046
+"$cc" -std=c11 -Wall -Wextra -Werror -o "$work/readme_batch" "$work/batch.c" \
+  $(pkg-config --cflags --libs treetrace)
+(cd "$src" && LD_LIBRARY_PATH="$libdir" "$work/readme_batch")
+
+if [ -n "$python" ]; then
+  echo "== pip install --no-build-isolation of python/, imported against the installed library"
+  cp -r "$src/python" "$work/python-src"
+  rm -rf "$work/python-src/build" "$work/python-src"/*.egg-info
+  PIP_ROOT_USER_ACTION=ignore "$python" -m pip install --no-build-isolation --no-deps --no-index --quiet \
+    --target "$work/site" "$work/python-src"
+  (cd "$work" && env -u TREETRACE_LIBRARY PYTHONPATH="$work/site" "$python" -c "
+import treetrace as tt, numpy as np
+assert tt.library_path.startswith('$libdir'), tt.library_path
+s = tt.Scene.from_arrays(np.array([[0,0,0],[1,0,0],[0,1,0]]), [[0,1,2]])
+h = tt.Accel(s, 'rtree').intersect([[0.2,0.2,1]], [0,0,-1])
+assert h.prim[0] == 0 and h.t[0] == 1.0
+print('python package from pip, library', tt.library_path)
+")
+else
+  echo "== no Python with numpy given: the pip install check is left out"
+fi
 echo "install and consumers: ok"
