@@ -409,6 +409,7 @@ static size_t embree_memory(const tt_accel *a)
 
 const tt_accel_vtable tt_embree_vtable = {
     .name = "embree",
+    .gpu = TT_ACCEL_GPU_NONE,
     .build = embree_build,
     .destroy = embree_destroy,
     .intersect = embree_intersect,
