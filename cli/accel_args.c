@@ -14,6 +14,7 @@ static const char *const kd_traversals[] = {"htr", "btr", "sltr", "seq"};
 static const char *const on_off[] = {"off", "on"};
 static const char *const reinsert_modes[] = {"close", "far"};
 static const char *const shadow_hints[] = {"primary", "caster"};
+static const char *const embree_qualities[] = {"high", "medium", "low"};
 
 void cli_accel_args_init(cli_accel_args *x)
 {
@@ -102,6 +103,16 @@ int cli_accel_args_parse(cli_args *a, cli_accel_args *x, int *taken)
         x->traversal = cli_value(a, "--traversal");
         return x->traversal ? CLI_OK : CLI_USAGE;
     }
+    if (cli_is(a, "--embree-quality")) {
+        const char *v = cli_value(a, "--embree-quality");
+        if (!v) return CLI_USAGE;
+        int k;
+        int st = cli_parse_choice(a->cmd, "--embree-quality", v, embree_qualities,
+                                  COUNT(embree_qualities), &k);
+        x->build.embree.quality = (tt_embree_quality)k;
+        x->embree_opt = "--embree-quality";
+        return st;
+    }
     if (cli_is(a, "--isa")) {
         const char *v = cli_value(a, "--isa");
         if (!v) return CLI_USAGE;
@@ -144,6 +155,9 @@ int cli_accel_args_finish(const char *cmd, cli_accel_args *x)
     int rtree = strcmp(x->accel, "rtree") == 0, kdtree = strcmp(x->accel, "kdtree") == 0;
     if (x->rtree_opt && !rtree)
         return cli_usage_error(cmd, "option %s applies to --accel rtree, not %s", x->rtree_opt,
+                               x->accel);
+    if (x->embree_opt && strcmp(x->accel, "embree") != 0)
+        return cli_usage_error(cmd, "option %s applies to --accel embree, not %s", x->embree_opt,
                                x->accel);
     if (x->kd_opt && !kdtree)
         return cli_usage_error(cmd, "option %s applies to --accel kdtree, not %s", x->kd_opt,
@@ -205,6 +219,8 @@ void cli_accel_args_emit(cli_emit *e, const tt_build_options *b)
         emit_int(e, "max_depth", kd->max_depth);
         emit_str(e, "traversal", kd_traversals[kd->traversal]);
         emit_str(e, "shadow_hint", shadow_hints[kd->shadow_caster_hint != 0]);
+    } else if (strcmp(b->accel, "embree") == 0) {
+        emit_str(e, "embree_quality", embree_qualities[b->embree.quality]);
     }
 }
 
@@ -217,6 +233,9 @@ void cli_accel_args_help(FILE *out)
             "                           auto: the best this CPU runs; output key isa)\n"
             "  --traversal NAME         rtree: auto|stackless|ordered|stack (default auto);\n"
             "                           kdtree: htr|btr|sltr|seq (default htr)\n"
+            "Embree (--accel embree):\n"
+            "  --embree-quality high|medium|low  BVH build quality (default high, as the\n"
+            "                           papers' tables compare; medium is Embree's usual)\n"
             "R-tree (--accel rtree):\n"
             "  --strategy NAME          min-volume|min-surface|min-overlap|rstar|rstar-surface\n"
             "                           (default rstar-surface)\n"

@@ -38,7 +38,8 @@ enum {
     BENCH_F5 = 1 << 4, /* Feldmann Table 5: construction times              */
     BENCH_H1 = 1 << 5, /* Havran & Bittner Table 1: kd traversals           */
     BENCH_H3 = 1 << 6, /* Havran & Bittner Figure 3: d_min sweep            */
-    BENCH_ALL_TABLES = (1 << 7) - 1
+    BENCH_E1 = 1 << 7, /* the engine table: defaults and builders vs Embree */
+    BENCH_ALL_TABLES = (1 << 8) - 1
 };
 
 typedef struct bench_table_name {
@@ -149,6 +150,13 @@ tt_build_options bench_rtree_build(tt_rtree_strategy s, int reinsert, tt_rtree_t
 /* dmin < 0: no sparse boxes. */
 tt_build_options bench_kdtree_build(tt_kd_builder builder, int dmin, tt_kd_traversal t);
 tt_build_options bench_named_build(const char *accel);
+/* The engine table's rows, in order (the first is Embree at medium build
+ * quality, the reference of the ratios). */
+typedef struct bench_engine_config {
+    char label[64];
+    tt_build_options build;
+} bench_engine_config;
+const bench_engine_config *bench_engine_configs(size_t *count);
 /* Whether the GPU traces this configuration (rtree: auto, stackless,
  * ordered; kdtree: sltr, htr without the caster hint). */
 int bench_gpu_traces(const tt_build_options *b);
@@ -176,6 +184,7 @@ typedef struct bench_result {
     size_t triangles, vertices;
     double build_s; /* of the structure this run used                 */
     size_t memory_bytes;
+    tt_isa isa; /* the kernels the structure ran on                   */
     bench_accel_stats accel_stats;
     int repeats;               /* timed passes actually made                     */
     tt_render_summary summary; /* timings from the timed call, stats from warm-up */

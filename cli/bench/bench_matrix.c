@@ -2,6 +2,7 @@
  * (scene x view x structure x build options x traversal x ray kind), plus
  * the Embree run each is compared with. A run needed by several tables is
  * made once; its table bits say where it is reported. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -9,7 +10,8 @@
 
 static int same_rtree(const tt_rtree_options *a, const tt_rtree_options *b)
 {
-    return a->strategy == b->strategy && a->m == b->m && a->M == b->M &&
+    return a->build == b->build && a->layout == b->layout && a->strategy == b->strategy &&
+           a->m == b->m && a->M == b->M &&
            a->reinsert == b->reinsert && a->reinsert_fraction == b->reinsert_fraction &&
            a->reinsert_far == b->reinsert_far && a->split == b->split &&
            a->traversal == b->traversal;
@@ -27,10 +29,11 @@ static int same_kdtree(const tt_kdtree_options *a, const tt_kdtree_options *b)
  * switch it on a built structure), so two traversals are two builds. */
 int bench_same_build(const tt_build_options *a, const tt_build_options *b)
 {
-    if (strcmp(a->accel, b->accel) != 0) return 0;
+    if (strcmp(a->accel, b->accel) != 0 || a->isa != b->isa) return 0;
     if (strcmp(a->accel, "rtree") == 0) return same_rtree(&a->rtree, &b->rtree);
     if (strcmp(a->accel, "kdtree") == 0) return same_kdtree(&a->kdtree, &b->kdtree);
-    return 1; /* embree, bruteforce: no options */
+    if (strcmp(a->accel, "embree") == 0) return a->embree.quality == b->embree.quality;
+    return 1; /* bruteforce: no options */
 }
 
 static int same_run(const bench_run *a, const bench_run *b)
@@ -92,6 +95,62 @@ tt_build_options bench_kdtree_build(tt_kd_builder builder, int dmin, tt_kd_trave
     b.kdtree.dmin = dmin;
     b.kdtree.traversal = t;
     return b;
+}
+
+/* The engine table's configurations: the library's defaults but for the
+ * builder and layout (what a new user gets, and each alternative), beside
+ * Embree at medium build quality, the issues' reference. */
+static bench_engine_config engine_configs[16];
+static size_t engine_count;
+
+static void engine_add(const char *label, tt_build_options b)
+{
+    engine_configs[engine_count].build = b;
+    snprintf(engine_configs[engine_count].label, sizeof engine_configs[0].label, "%s", label);
+    engine_count++;
+}
+
+const bench_engine_config *bench_engine_configs(size_t *count)
+{
+    if (!engine_count) {
+        tt_build_options b;
+        tt_build_options_default(&b);
+        b.accel = "embree";
+        b.embree.quality = TT_EMBREE_MEDIUM;
+        engine_add("Embree 3 (medium)", b);
+        static const struct {
+            const char *label;
+            tt_rtree_build build;
+            tt_rtree_layout layout;
+        } rt[] = {
+            {"rtree insert, complete (Feldmann)", TT_RTREE_BUILD_INSERT, TT_RTREE_LAYOUT_COMPLETE},
+            {"rtree insert, compact", TT_RTREE_BUILD_INSERT, TT_RTREE_LAYOUT_COMPACT},
+            {"rtree str, compact", TT_RTREE_BUILD_STR, TT_RTREE_LAYOUT_COMPACT},
+            {"rtree hilbert, compact", TT_RTREE_BUILD_HILBERT, TT_RTREE_LAYOUT_COMPACT},
+            {"rtree sah, complete", TT_RTREE_BUILD_SAH, TT_RTREE_LAYOUT_COMPLETE},
+            {"rtree sah, compact", TT_RTREE_BUILD_SAH, TT_RTREE_LAYOUT_COMPACT},
+        };
+        for (size_t i = 0; i < sizeof rt / sizeof rt[0]; i++) {
+            tt_build_options_default(&b);
+            b.accel = "rtree";
+            b.rtree.build = rt[i].build;
+            b.rtree.layout = rt[i].layout;
+            engine_add(rt[i].label, b);
+        }
+        static const struct {
+            const char *label;
+            tt_kd_builder builder;
+        } kd[] = {{"kdtree nlogn, htr", TT_KD_NLOGN}, {"kdtree binned, htr", TT_KD_BINNED}};
+        for (size_t i = 0; i < sizeof kd / sizeof kd[0]; i++) {
+            tt_build_options_default(&b);
+            b.accel = "kdtree";
+            b.kdtree.builder = kd[i].builder;
+            b.kdtree.traversal = TT_KD_HTR;
+            engine_add(kd[i].label, b);
+        }
+    }
+    *count = engine_count;
+    return engine_configs;
 }
 
 tt_build_options bench_named_build(const char *accel)
@@ -199,9 +258,18 @@ static void havran(ctx *c, const bench_options *o, int default_dmin)
     }
 }
 
+static void engine(ctx *c, const bench_options *o)
+{
+    if (!(o->tables & BENCH_E1)) return;
+    size_t n;
+    const bench_engine_config *cf = bench_engine_configs(&n);
+    for (size_t i = 0; i < n; i++) run(c, o->rtree_size, cf[i].build, BENCH_PRIMARY_SHADOW, BENCH_E1, 0);
+}
+
 int bench_gpu_traces(const tt_build_options *b)
 {
-    if (strcmp(b->accel, "rtree") == 0) return b->rtree.traversal != TT_RTREE_STACK;
+    if (strcmp(b->accel, "rtree") == 0)
+        return b->rtree.layout == TT_RTREE_LAYOUT_COMPLETE && b->rtree.traversal != TT_RTREE_STACK;
     if (strcmp(b->accel, "kdtree") == 0)
         return (b->kdtree.traversal == TT_KD_SLTR || b->kdtree.traversal == TT_KD_HTR) &&
                !b->kdtree.shadow_caster_hint;
@@ -238,6 +306,7 @@ int bench_matrix_make(const bench_options *o, const bench_scene_list *scenes, be
         for (c.view = 0; c.view < scenes->items[c.scene].view_count; c.view++) {
             feldmann(&c, o);
             havran(&c, o, def.kdtree.dmin);
+            engine(&c, o);
         }
     }
     if (!c.fail && o->device == TT_DEVICE_GPU && add_gpu_runs(m)) c.fail = 1;

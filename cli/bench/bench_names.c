@@ -55,17 +55,25 @@ void bench_options_string(const tt_build_options *b, char *buf, size_t size)
 {
     if (strcmp(b->accel, "rtree") == 0) {
         const tt_rtree_options *r = &b->rtree;
-        snprintf(buf, size, "strategy=%s m=%d M=%d reinsert=%d p=%.2f %s split=%s",
+        static const char *const builds[] = {"insert", "str", "hilbert", "sah"};
+        snprintf(buf, size, "build=%s layout=%s strategy=%s m=%d M=%d reinsert=%d p=%.2f %s split=%s",
+                 (unsigned)r->build < 4 ? builds[r->build] : "?",
+                 r->layout == TT_RTREE_LAYOUT_COMPACT ? "compact" : "complete",
                  bench_strategy_name(r->strategy), r->m, r->M, r->reinsert,
                  (double)r->reinsert_fraction, r->reinsert_far ? "far" : "close",
                  r->split == TT_RTREE_SPLIT_RSTAR ? "R*" : "quadratic");
     } else if (strcmp(b->accel, "kdtree") == 0) {
         const tt_kdtree_options *k = &b->kdtree;
         snprintf(buf, size, "builder=%s dmin=%d CT=%g CI=%g bonus=%g max_depth=%d",
-                 k->builder == TT_KD_NLOGN ? "nlogn" : "nlog2n", k->dmin, (double)k->cost_traversal,
+                 k->builder == TT_KD_NLOGN    ? "nlogn"
+                 : k->builder == TT_KD_NLOG2N ? "nlog2n"
+                                              : "binned",
+                 k->dmin, (double)k->cost_traversal,
                  (double)k->cost_intersect, (double)k->empty_bonus, k->max_depth);
     } else if (strcmp(b->accel, "embree") == 0) {
-        snprintf(buf, size, "quality=high robust");
+        static const char *const q[] = {"high", "medium", "low"};
+        snprintf(buf, size, "quality=%s robust",
+                 (unsigned)b->embree.quality < 3 ? q[b->embree.quality] : "?");
     } else {
         snprintf(buf, size, "-");
     }

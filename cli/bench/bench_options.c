@@ -15,6 +15,7 @@ const bench_table_name bench_tables[] = {
     {BENCH_F5, "F5", "Feldmann Table 5: construction times"},
     {BENCH_H1, "H1", "Havran & Bittner Table 1: kd-tree traversal algorithms (primary rays)"},
     {BENCH_H3, "H3", "Havran & Bittner Figure 3: interior nodes and time against d_min"},
+    {BENCH_E1, "E", "Engine table: each structure's builders and layouts against Embree"},
 };
 const size_t bench_table_count = sizeof bench_tables / sizeof bench_tables[0];
 
@@ -50,7 +51,8 @@ void bench_print_help(FILE *f)
           "                    others, first view, 256x256 / 200x150, one timed pass,\n"
           "                    d_min 1,4,12\n"
           "  --only LIST       only these tables: F1,F2,F3,F4,F5 (Feldmann), H1, H3\n"
-          "                    (Havran & Bittner Table 1 and Figure 3)\n"
+          "                    (Havran & Bittner Table 1 and Figure 3), E (the engine\n"
+          "                    table: builders and layouts against Embree)\n"
           "  --scene LIST      only these scenes (by scenes.tsv name; the tiny test\n"
           "                    scenes bunny_res4 and cornell run only when named)\n"
           "  --size WxH        image size for every table\n"

@@ -261,6 +261,7 @@ int bench_write_report(tt_context *ctx, const char *out_dir, const bench_options
     agreement(&rp);
     bench_report_feldmann(&rp);
     bench_report_havran(&rp);
+    bench_report_engine(&rp);
     bench_report_gpu(&rp);
     heatmaps(&rp);
     int bad = ferror(f);

@@ -41,6 +41,8 @@ int bench_result_ok(const bench_result *r);
 
 void bench_report_feldmann(const bench_report *rp);
 void bench_report_havran(const bench_report *rp);
+/* The engine table (BENCH_E1). */
+void bench_report_engine(const bench_report *rp);
 /* The GPU section (--device gpu); nothing without GPU runs. */
 void bench_report_gpu(const bench_report *rp);
 

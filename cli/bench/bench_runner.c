@@ -220,6 +220,7 @@ static void build_and_render(tt_context *ctx, const bench_options *o,
             r->vertices = tt_scene_vertex_count(st->scene);
             r->build_s = tt_accel_build_seconds(accel);
             r->memory_bytes = tt_accel_memory_bytes(accel);
+            r->isa = tt_accel_isa(accel);
             r->accel_stats = as;
             render_one(ctx, o, scenes, m, j, accel, st, out_dir, res);
         }

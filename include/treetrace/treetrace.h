@@ -243,11 +243,25 @@ int tt_isa_supported(tt_isa isa);
 /* The best ISA tt_isa_supported accepts (what TT_ISA_AUTO resolves to). */
 tt_isa tt_isa_best(void);
 
+/* Embree's BVH build quality (RTC_BUILD_QUALITY_*). The papers' tables
+ * compare with HIGH (spatial splits); the engine targets, as Embree's users
+ * build by default, with MEDIUM. */
+typedef enum tt_embree_quality {
+    TT_EMBREE_HIGH = 0,
+    TT_EMBREE_MEDIUM,
+    TT_EMBREE_LOW
+} tt_embree_quality;
+
+typedef struct tt_embree_options {
+    tt_embree_quality quality; /* default TT_EMBREE_HIGH                      */
+} tt_embree_options;
+
 typedef struct tt_build_options {
     const char *accel; /* "bruteforce", "rtree", "kdtree", "embree"           */
     tt_isa isa;        /* default TT_ISA_AUTO                                 */
     tt_rtree_options rtree;
     tt_kdtree_options kdtree;
+    tt_embree_options embree;
 } tt_build_options;
 
 void tt_build_options_default(tt_build_options *options);

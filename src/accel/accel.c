@@ -55,6 +55,7 @@ void tt_build_options_default(tt_build_options *o)
     o->kdtree.max_depth = 0;
     o->kdtree.traversal = TT_KD_HTR;
     o->kdtree.shadow_caster_hint = 0;
+    o->embree.quality = TT_EMBREE_HIGH;
 }
 
 tt_status tt_accel_build(tt_context *ctx, const tt_scene *scene, const tt_build_options *options,

@@ -8,8 +8,27 @@
 #include "geometry/ray.h"
 #include "io/scene.h"
 
+/* What a structure offers besides the required entries; the renderer asks
+ * these instead of comparing names, so a new structure that offers the same
+ * gets the same treatment. */
+#define TT_CAP_CASTER_HINT 0x1u /* honours options.kdtree.shadow_caster_hint: a
+                                   shadow ray's start_hint may be the caster the
+                                   previous shadow ray ended at               */
+
+/* The GPU tracer's structure layouts (src/cuda/gpu.h, tt_gpu_kind): which
+ * one a structure's arrays are handed over as; NONE: the GPU cannot trace
+ * it. The GPU's limits within a layout (traversals, options) are checked by
+ * render/render_gpu.c, which knows what the tracer implements. */
+typedef enum tt_accel_gpu {
+    TT_ACCEL_GPU_NONE = 0,
+    TT_ACCEL_GPU_RTREE,  /* rt_tree's complete M-ary level-order arrays */
+    TT_ACCEL_GPU_KDTREE  /* tt_kdtree's view                            */
+} tt_accel_gpu;
+
 typedef struct tt_accel_vtable {
     const char *name;
+    unsigned caps;    /* TT_CAP_* bits */
+    tt_accel_gpu gpu; /* layout the GPU tracer takes it in */
     /* Builds accel->impl from accel->scene and accel->options. */
     tt_status (*build)(tt_accel *accel);
     void (*destroy)(tt_accel *accel);

@@ -177,8 +177,9 @@ static void init_frame(tt_context *ctx, const tt_scene *scene, const tt_accel *a
     f->threads = tt_context_threads(ctx) > 0 ? tt_context_threads(ctx) : omp_get_max_threads();
     f->eps = 1e-4f * tt_scene_diagonal(scene);
     tt_camera_basis_init(&f->basis, camera, o->width, o->height);
-    /* Only the kd-tree knows the option; other structures ignore hints. */
-    f->caster_hint = strcmp(accel->vt->name, "kdtree") == 0 &&
+    /* Only a structure that takes caster hints is handed them (the option
+     * is the kd-tree's; other structures ignore its slot). */
+    f->caster_hint = (accel->vt->caps & TT_CAP_CASTER_HINT) &&
                      accel->options.kdtree.shadow_caster_hint;
     /* one point location for all primary rays (they share the eye) */
     f->eye_hint = accel->vt->locate ? accel->vt->locate(accel, camera->eye) : TT_INVALID_ID;

@@ -24,14 +24,13 @@
 
 tt_status tt_render_gpu_validate(tt_context *ctx, const tt_accel *accel)
 {
-    const char *name = accel->vt->name;
-    if (strcmp(name, "rtree") == 0) {
+    switch (accel->vt->gpu) {
+    case TT_ACCEL_GPU_RTREE:
         if (accel->options.rtree.traversal == TT_RTREE_STACK)
             return tt_error(ctx, TT_ERR_UNSUPPORTED,
                             "tt_render: " SUPPORTED ", not rtree with the stack traversal");
         return TT_OK;
-    }
-    if (strcmp(name, "kdtree") == 0) {
+    case TT_ACCEL_GPU_KDTREE: {
         static const char *const names[] = {"htr", "btr", "sltr", "seq"};
         const tt_kdtree_options *k = &accel->options.kdtree;
         if (k->traversal != TT_KD_SLTR && k->traversal != TT_KD_HTR)
@@ -44,7 +43,9 @@ tt_status tt_render_gpu_validate(tt_context *ctx, const tt_accel *accel)
                             "tt_render: " SUPPORTED ", not the kd-tree's shadow-caster hint");
         return TT_OK;
     }
-    return tt_error(ctx, TT_ERR_UNSUPPORTED, "tt_render: " SUPPORTED ", not %s", name);
+    case TT_ACCEL_GPU_NONE: break;
+    }
+    return tt_error(ctx, TT_ERR_UNSUPPORTED, "tt_render: " SUPPORTED ", not %s", accel->vt->name);
 }
 
 #ifndef TT_HAVE_CUDA
@@ -98,7 +99,7 @@ static tt_status describe(tt_context *ctx, const tt_accel *accel, tt_gpu_structu
                         scene->triangle_count);
     g->tri = scene->tri;
     g->triangles = (uint32_t)scene->triangle_count;
-    if (strcmp(accel->vt->name, "rtree") == 0) {
+    if (accel->vt->gpu == TT_ACCEL_GPU_RTREE) {
         const rt_tree *t = accel->impl;
         g->kind = TT_GPU_RTREE;
         g->traversal = (int)t->traversal;
@@ -107,7 +108,7 @@ static tt_status describe(tt_context *ctx, const tt_accel *accel, tt_gpu_structu
         memcpy(g->rtree_root_box, t->root_box, sizeof g->rtree_root_box);
         return TT_OK;
     }
-    const tt_kdtree *kd = tt_kdtree_of(accel);
+    const tt_kdtree *kd = accel->vt->gpu == TT_ACCEL_GPU_KDTREE ? tt_kdtree_of(accel) : NULL;
     if (kd) {
         g->kind = TT_GPU_KDTREE;
         g->traversal = (int)accel->options.kdtree.traversal;

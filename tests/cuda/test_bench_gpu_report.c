@@ -35,6 +35,7 @@
 /* The CPU papers' tables are not under test here. */
 void bench_report_feldmann(const bench_report *rp) { (void)rp; }
 void bench_report_havran(const bench_report *rp) { (void)rp; }
+void bench_report_engine(const bench_report *rp) { (void)rp; }
 
 static int parse(const char *a1, const char *a2, bench_options *o)
 {
@@ -81,7 +82,9 @@ static bench_scene_list one_scene(void)
 static int is_gpu_config(const tt_build_options *b)
 {
     if (strcmp(b->accel, "rtree") == 0)
-        return b->rtree.traversal == TT_RTREE_STACKLESS || b->rtree.traversal == TT_RTREE_ORDERED;
+        return b->rtree.layout == TT_RTREE_LAYOUT_COMPLETE &&
+               (b->rtree.traversal == TT_RTREE_AUTO || b->rtree.traversal == TT_RTREE_STACKLESS ||
+                b->rtree.traversal == TT_RTREE_ORDERED);
     if (strcmp(b->accel, "kdtree") == 0)
         return b->kdtree.traversal == TT_KD_SLTR || b->kdtree.traversal == TT_KD_HTR;
     return 0;

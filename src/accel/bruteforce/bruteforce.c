@@ -63,6 +63,7 @@ static size_t bf_memory(const tt_accel *a)
 
 const tt_accel_vtable tt_bruteforce_vtable = {
     .name = "bruteforce",
+    .gpu = TT_ACCEL_GPU_NONE,
     .build = bf_build,
     .destroy = bf_destroy,
     .intersect = bf_intersect,

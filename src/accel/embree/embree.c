@@ -144,7 +144,14 @@ static tt_status embree_build(tt_accel *a)
     /* ROBUST: conservative box tests and the watertight Pluecker triangle
      * test, the closest Embree gets to our watertight test (see the top). */
     rtcSetSceneFlags(e->scene, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(e->scene, RTC_BUILD_QUALITY_HIGH);
+    const tt_embree_quality q = a->options.embree.quality;
+    if ((unsigned)q > (unsigned)TT_EMBREE_LOW)
+        return tt_error(a->ctx, TT_ERR_INVALID_ARGUMENT, "embree: unknown build quality %d",
+                        (int)q);
+    const enum RTCBuildQuality quality = q == TT_EMBREE_LOW      ? RTC_BUILD_QUALITY_LOW
+                                         : q == TT_EMBREE_MEDIUM ? RTC_BUILD_QUALITY_MEDIUM
+                                                                 : RTC_BUILD_QUALITY_HIGH;
+    rtcSetSceneBuildQuality(e->scene, quality);
 
     if (s->triangle_count > 0) {
         RTCGeometry g = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -152,7 +159,7 @@ static tt_status embree_build(tt_accel *a)
             if (g) rtcReleaseGeometry(g);
             return st;
         }
-        rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_HIGH);
+        rtcSetGeometryBuildQuality(g, quality);
         float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                            3 * sizeof(float), s->vertex_count);
         uint32_t *idx = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
@@ -384,6 +391,8 @@ static void embree_statistics(const tt_accel *a, tt_stat_fn fn, void *user)
     const embree_impl *e = a->impl;
     fn(user, "triangles", (double)a->scene->triangle_count);
     fn(user, "embree_version", (double)rtcGetDeviceProperty(e->device, RTC_DEVICE_PROPERTY_VERSION));
+    /* 0 high, 1 medium, 2 low (tt_embree_quality) */
+    fn(user, "build_quality", (double)a->options.embree.quality);
     long long total = atomic_load(&((embree_impl *)e)->bytes);
     fn(user, "memory_bytes", (double)total);
     fn(user, "geometry_bytes", (double)e->geometry_bytes);
@@ -400,6 +409,7 @@ static size_t embree_memory(const tt_accel *a)
 
 const tt_accel_vtable tt_embree_vtable = {
     .name = "embree",
+    .gpu = TT_ACCEL_GPU_NONE,
     .build = embree_build,
     .destroy = embree_destroy,
     .intersect = embree_intersect,

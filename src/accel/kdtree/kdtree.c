@@ -103,6 +103,8 @@ const tt_kdtree *tt_kdtree_of(const tt_accel *a)
 
 const tt_accel_vtable tt_kdtree_vtable = {
     .name = "kdtree",
+    .caps = TT_CAP_CASTER_HINT,
+    .gpu = TT_ACCEL_GPU_KDTREE,
     .build = kd_build,
     .destroy = kd_destroy,
     .intersect = kd_intersect,

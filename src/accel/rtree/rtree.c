@@ -161,6 +161,7 @@ static size_t rtree_memory(const tt_accel *a) { return rt_tree_bytes(a->impl); }
 
 const tt_accel_vtable tt_rtree_vtable = {
     .name = "rtree",
+    .gpu = TT_ACCEL_GPU_RTREE,
     .build = rtree_build,
     .destroy = rtree_destroy,
     .intersect = rtree_intersect,
