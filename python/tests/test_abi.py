@@ -26,6 +26,7 @@ def test_build_options_layout():
     assert (k.builder, k.dmin, k.max_depth, k.traversal, k.shadow_caster_hint) == (0, 4, 0, 0, 0)
     assert (k.cost_traversal, abs(k.cost_intersect - 1.5) < 1e-6) == (1.0, True)
     assert abs(k.empty_bonus - 0.2) < 1e-6
+    assert o.embree.quality == 0
 
 
 def test_render_and_batch_options_layout():

@@ -58,6 +58,10 @@ def test_structure_options(small_scene):
         tt.Accel(small_scene, "rtree", strategy="best")
     with pytest.raises(TypeError, match="unknown option 'dmin'"):
         tt.Accel(small_scene, "rtree", dmin=3)
+    if "embree" in tt.accel_names():
+        tt.Accel(small_scene, "embree", quality="medium")
+        with pytest.raises(tt.InvalidArgumentError, match="quality"):
+            tt.Accel(small_scene, "embree", quality="best")
     scalar = tt.Accel(small_scene, "rtree", isa="scalar")
     assert scalar.isa == "scalar"
 

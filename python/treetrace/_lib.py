@@ -55,9 +55,13 @@ class KdtreeOptions(ctypes.Structure):
                 ("traversal", ctypes.c_int), ("shadow_caster_hint", ctypes.c_int)]
 
 
+class EmbreeOptions(ctypes.Structure):
+    _fields_ = [("quality", ctypes.c_int)]
+
+
 class BuildOptions(ctypes.Structure):
     _fields_ = [("accel", ctypes.c_char_p), ("isa", ctypes.c_int),
-                ("rtree", RtreeOptions), ("kdtree", KdtreeOptions)]
+                ("rtree", RtreeOptions), ("kdtree", KdtreeOptions), ("embree", EmbreeOptions)]
 
 
 class TraceArgs(ctypes.Structure):

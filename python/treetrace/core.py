@@ -18,6 +18,7 @@ _SPLITS = ("rstar", "quadratic")
 _RTREE_TRAVERSALS = ("auto", "stackless", "ordered", "stack")
 _KD_BUILDERS = ("nlogn", "nlog2n", "binned")
 _KD_TRAVERSALS = ("htr", "btr", "sltr", "seq")
+_EMBREE_QUALITIES = ("high", "medium", "low")
 
 
 def version():
@@ -214,7 +215,11 @@ def _build_options(accel, isa, traversal, options):
         "shadow_hint": lambda x: setattr(k, "shadow_caster_hint",
                                          _choice("shadow_hint", x, ("primary", "caster"))),
     }
-    table = rtree_opts if accel == "rtree" else kd_opts if accel == "kdtree" else {}
+    embree_opts = {
+        "quality": lambda x: setattr(o.embree, "quality",
+                                     _choice("quality", x, _EMBREE_QUALITIES)),
+    }
+    table = {"rtree": rtree_opts, "kdtree": kd_opts, "embree": embree_opts}.get(accel, {})
     for key, value in options.items():
         if key not in table:
             raise TypeError("Accel('%s'): unknown option '%s'%s" % (
@@ -231,7 +236,8 @@ class Accel:
     rtree options: build, layout, strategy, m, M, reinsert, reinsert_fraction,
     reinsert_mode, split; kdtree options: builder, dmin (None: the root's box
     only), cost_traversal, cost_intersect, empty_bonus, max_depth,
-    shadow_hint. Names as in `treetrace render --help`."""
+    shadow_hint; embree: quality ("high", "medium", "low"). Names as in
+    `treetrace render --help`."""
 
     def __init__(self, scene, accel="rtree", isa="auto", traversal=None, **options):
         self.scene = scene
