@@ -3,6 +3,7 @@
  * by one, and traced through the structure's dispatch table on the
  * context's OpenMP threads, like the renderer's passes. The AoS calls are
  * the strided ones over tt_ray / tt_hit, so there is one loop to trust. */
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -105,6 +106,16 @@ static void store_hit(const tt_hit_arrays *h, size_t i, const tt_hit *hit)
         *(uint32_t *)(void *)((char *)h->prim + (ptrdiff_t)i * h->prim_stride) = hit->prim;
 }
 
+/* The ray contract's common case in a few compares, inline: finite origin
+ * and direction, a non-zero direction, 0 <= tmin and tmax not NaN. Any ray
+ * failing it goes to tt_ray_check, which decides (and words the cause). */
+static inline tt_status check_ray(const float org[3], const float dir[3], float tmin, float tmax)
+{
+    int ok = tmin >= 0.0f && tmax == tmax && (dir[0] != 0.0f || dir[1] != 0.0f || dir[2] != 0.0f);
+    for (int k = 0; k < 3; k++) ok &= isfinite(org[k]) && isfinite(dir[k]);
+    return ok ? TT_OK : tt_ray_check(org, dir, tmin, tmax, NULL, 0);
+}
+
 static int arrays_ok(const tt_ray_arrays *a)
 {
     return a && a->org[0] && a->org[1] && a->org[2] && a->dir[0] && a->dir[1] && a->dir[2];
@@ -181,7 +192,7 @@ tt_status tt_intersect_arrays(const tt_accel *accel, const tt_ray_arrays *rays, 
                 float org[3], dir[3], tmin, tmax;
                 tt_hit h;
                 load_ray(rays, i, org, dir, &tmin, &tmax);
-                tt_status rs = tt_ray_check(org, dir, tmin, tmax, NULL, 0);
+                tt_status rs = check_ray(org, dir, tmin, tmax);
                 if (rs == TT_OK) {
                     tt_wray w;
                     tt_trace_args args = {o->start_hint, TT_INVALID_ID, NULL};
@@ -239,7 +250,7 @@ tt_status tt_occluded_arrays(const tt_accel *accel, const tt_ray_arrays *rays, s
                 float org[3], dir[3], tmin, tmax;
                 int occ = 0;
                 load_ray(rays, i, org, dir, &tmin, &tmax);
-                tt_status rs = tt_ray_check(org, dir, tmin, tmax, NULL, 0);
+                tt_status rs = check_ray(org, dir, tmin, tmax);
                 if (rs == TT_OK) {
                     tt_wray w;
                     tt_trace_args args = {o->start_hint, TT_INVALID_ID, NULL};
