@@ -35,8 +35,13 @@ cmake --build "$work/cmake-build" > "$work/build.log"
 "$work/cmake-build/consumer"
 "$work/cmake-build/consumer_static"
 # the shared consumer really uses the installed shared library
-ldd "$work/cmake-build/consumer" | grep -q "$libdir/libtreetrace.so.0" || {
-  echo "consumer does not load $libdir/libtreetrace.so.0:"; ldd "$work/cmake-build/consumer"; exit 1; }
+# (ldd's output taken whole first: `ldd | grep -q` under pipefail fails at
+# random when grep exits before ldd has finished writing)
+loaded="$(ldd "$work/cmake-build/consumer")"
+case "$loaded" in
+  *"$libdir/libtreetrace.so.0"*) ;;
+  *) echo "consumer does not load $libdir/libtreetrace.so.0:"; echo "$loaded"; exit 1 ;;
+esac
 
 echo "== pkg-config treetrace"
 export PKG_CONFIG_PATH="$libdir/pkgconfig"
