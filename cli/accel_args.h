@@ -14,6 +14,7 @@ typedef struct cli_accel_args {
     const char *traversal; /* as given; resolved once the structure is known  */
     const char *rtree_opt; /* the first R-tree option given, for messages     */
     const char *kd_opt;    /* the first kd-tree option given                  */
+    const char *insert_opt; /* the first insertion-only R-tree option given  */
     int m_given, M_given;
 } cli_accel_args;
 
