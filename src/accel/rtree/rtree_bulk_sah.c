@@ -27,7 +27,6 @@
  * byte per position saying which levels' nodes start there); the nodes are
  * then made level by level from those marks, so the tree is the same for
  * any number of threads. Subtrees are OpenMP tasks. */
-#include <stdlib.h>
 #include <string.h>
 
 #include "accel/rtree/rtree_box.h"
@@ -77,16 +76,27 @@ static int pick_k1(uint64_t n, uint64_t c, int k, uint64_t lo, uint64_t hi)
     return p < a ? a : p > b ? b : p;
 }
 
+/* The cuts c for which the left side becomes k1 groups: [*a, *b]; 0 if
+ * there are none. */
+static int cut_interval(uint64_t n, int k, int k1, uint64_t lo, uint64_t hi, uint64_t *a_out,
+                        uint64_t *b_out)
+{
+    const uint64_t k2 = (uint64_t)(k - k1);
+    uint64_t a = (uint64_t)k1 * lo, b = (uint64_t)k1 * hi;
+    if (n > k2 * hi && n - k2 * hi > a) a = n - k2 * hi;
+    if (n - k2 * lo < b) b = n - k2 * lo; /* n >= k lo > k2 lo */
+    *a_out = a;
+    *b_out = b;
+    return a <= b;
+}
+
 /* The feasible cut nearest c. */
 static uint64_t nearest_cut(uint64_t n, uint64_t c, int k, uint64_t lo, uint64_t hi)
 {
     uint64_t best = 0, dist = UINT64_MAX;
     for (int k1 = 1; k1 < k; k1++) {
-        const uint64_t k2 = (uint64_t)(k - k1);
-        uint64_t a = (uint64_t)k1 * lo, b = (uint64_t)k1 * hi;
-        if (n > k2 * hi && n - k2 * hi > a) a = n - k2 * hi;
-        if (n - k2 * lo < b) b = n - k2 * lo; /* n >= k lo > k2 lo */
-        if (a > b) continue;
+        uint64_t a, b;
+        if (!cut_interval(n, k, k1, lo, hi, &a, &b)) continue;
         uint64_t x = c < a ? a : c > b ? b : c;
         uint64_t d = x > c ? x - c : c - x;
         if (d < dist) dist = d, best = x;
@@ -141,18 +151,6 @@ static void select_first(const sah *s, int axis, uint32_t *v, uint32_t n, uint32
     }
 }
 
-static void sort_axis(const sah *s, int axis, uint32_t *v, uint32_t n)
-{
-    for (uint32_t i = 1; i < n; i++) {
-        uint32_t x = v[i], j = i;
-        while (j > 0 && before(s, axis, x, v[j - 1])) {
-            v[j] = v[j - 1];
-            j--;
-        }
-        v[j] = x;
-    }
-}
-
 static inline float area_of(const float b[6])
 {
     return b[3] >= b[0] ? rt_box_area(b) : 0.0f;
@@ -160,29 +158,56 @@ static inline float area_of(const float b[6])
 
 /* ----------------------------------------------------------------- cuts */
 
+typedef struct item {
+    float c;
+    uint32_t id;
+} item;
+
+static void sort_items(item *a, uint32_t n) /* by (centre, id); n is small */
+{
+    for (uint32_t i = 1; i < n; i++) {
+        item x = a[i];
+        uint32_t j = i;
+        while (j > 0 && (x.c < a[j - 1].c || (x.c == a[j - 1].c && x.id < a[j - 1].id))) {
+            a[j] = a[j - 1];
+            j--;
+        }
+        a[j] = x;
+    }
+}
+
 /* Cuts v[0 .. n), which must become k groups of lo..hi, into a left part
  * v[0 .. *c) of *k1 groups: small ranges by an exact sweep. */
 static void cut_sweep(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo, uint64_t hi,
                       uint32_t *c_out, int *k1_out)
 {
-    uint32_t sorted[3][SWEEP_MAX];
+    item sorted[3][SWEEP_MAX];
     float right[SWEEP_MAX];
+    /* the feasible cuts, once (the union over k1 of the intervals) */
+    uint8_t ok[SWEEP_MAX];
+    memset(ok, 0, n);
+    for (int k1 = 1; k1 < k; k1++) {
+        uint64_t a, b;
+        if (cut_interval(n, k, k1, lo, hi, &a, &b))
+            for (uint64_t c = a; c <= b; c++) ok[c] = 1;
+    }
     float best = TT_INF;
     int best_axis = -1;
     uint32_t best_c = 0;
     for (int axis = 0; axis < 3; axis++) {
-        memcpy(sorted[axis], v, n * sizeof *v);
-        sort_axis(s, axis, sorted[axis], n);
+        item *a = sorted[axis];
+        for (uint32_t i = 0; i < n; i++) a[i].c = s->cen[3 * (size_t)v[i] + axis], a[i].id = v[i];
+        sort_items(a, n);
         float b[6];
         rt_box_empty(b);
         for (uint32_t i = n; i-- > 1;) {
-            rt_box_grow(b, s->tri_box + 6 * (size_t)sorted[axis][i]);
+            rt_box_grow(b, s->tri_box + 6 * (size_t)a[i].id);
             right[i] = rt_box_area(b);
         }
         rt_box_empty(b);
         for (uint32_t c = 1; c < n; c++) {
-            rt_box_grow(b, s->tri_box + 6 * (size_t)sorted[axis][c - 1]);
-            if (!pick_k1(n, c, k, lo, hi)) continue;
+            rt_box_grow(b, s->tri_box + 6 * (size_t)a[c - 1].id);
+            if (!ok[c]) continue;
             float cost = rt_box_area(b) * (float)c + right[c] * (float)(n - c);
             if (cost < best) best = cost, best_axis = axis, best_c = c;
         }
@@ -191,38 +216,55 @@ static void cut_sweep(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo,
         best_axis = 0;
         best_c = (uint32_t)nearest_cut(n, n / 2, k, lo, hi);
     }
-    memcpy(v, sorted[best_axis], n * sizeof *v);
+    for (uint32_t i = 0; i < n; i++) v[i] = sorted[best_axis][i].id;
     *c_out = best_c;
     *k1_out = pick_k1(n, best_c, k, lo, hi);
 }
 
-/* The same for large ranges, by binning the centres. */
-static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo, uint64_t hi,
-                       uint32_t *c_out, int *k1_out)
+static void centre_bounds(const sah *s, const uint32_t *v, uint32_t n, float cb[6])
 {
-    float clo[3] = {TT_INF, TT_INF, TT_INF}, chi[3] = {-TT_INF, -TT_INF, -TT_INF};
+    rt_box_empty(cb);
     for (uint32_t i = 0; i < n; i++) {
         const float *c = s->cen + 3 * (size_t)v[i];
         for (int a = 0; a < 3; a++) {
-            clo[a] = rt_min(clo[a], c[a]);
-            chi[a] = rt_max(chi[a], c[a]);
+            cb[a] = rt_min(cb[a], c[a]);
+            cb[a + 3] = rt_max(cb[a + 3], c[a]);
+        }
+    }
+}
+
+static inline int bin_of(float c, float lo, float scale)
+{
+    int j = (int)((c - lo) * scale);
+    return j < 0 ? 0 : j >= BINS ? BINS - 1 : j;
+}
+
+/* The same for large ranges, by binning the centres (whose bounds are cb);
+ * also returns the centre bounds of both sides. */
+static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo, uint64_t hi,
+                       const float cb[6], uint32_t *c_out, int *k1_out, float cbl[6], float cbr[6])
+{
+    float scale[3];
+    uint32_t cnt[3][BINS];
+    float box[3][BINS][6];
+    memset(cnt, 0, sizeof cnt);
+    for (int a = 0; a < 3; a++) {
+        scale[a] = cb[a + 3] > cb[a] ? (float)BINS / (cb[a + 3] - cb[a]) : 0.0f;
+        for (int j = 0; j < BINS; j++) rt_box_empty(box[a][j]);
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        const float *c = s->cen + 3 * (size_t)v[i], *tb = s->tri_box + 6 * (size_t)v[i];
+        for (int a = 0; a < 3; a++) {
+            const int j = bin_of(c[a], cb[a], scale[a]);
+            cnt[a][j]++;
+            rt_box_grow(box[a][j], tb);
         }
     }
     float best = TT_INF;
-    int best_axis = -1;
+    int best_axis = -1, best_bin = 0;
     uint32_t best_c = 0;
     for (int axis = 0; axis < 3; axis++) {
-        if (!(chi[axis] > clo[axis])) continue;
-        const float scale = (float)BINS / (chi[axis] - clo[axis]);
-        uint32_t cnt[BINS] = {0};
-        float box[BINS][6];
-        for (int j = 0; j < BINS; j++) rt_box_empty(box[j]);
-        for (uint32_t i = 0; i < n; i++) {
-            int j = (int)((s->cen[3 * (size_t)v[i] + axis] - clo[axis]) * scale);
-            j = j < 0 ? 0 : j >= BINS ? BINS - 1 : j;
-            cnt[j]++;
-            rt_box_grow(box[j], s->tri_box + 6 * (size_t)v[i]);
-        }
+        if (!(cb[axis + 3] > cb[axis])) continue;
         /* prefix: bins [0, j); suffix: bins [j, BINS) */
         float pre_a[BINS + 1], suf_a[BINS + 1];
         uint32_t pre_c[BINS + 1];
@@ -231,14 +273,14 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
         pre_a[0] = 0.0f;
         pre_c[0] = 0;
         for (int j = 0; j < BINS; j++) {
-            rt_box_grow(b, box[j]);
+            rt_box_grow(b, box[axis][j]);
             pre_a[j + 1] = area_of(b);
-            pre_c[j + 1] = pre_c[j] + cnt[j];
+            pre_c[j + 1] = pre_c[j] + cnt[axis][j];
         }
         rt_box_empty(b);
         suf_a[BINS] = 0.0f;
         for (int j = BINS; j-- > 0;) {
-            rt_box_grow(b, box[j]);
+            rt_box_grow(b, box[axis][j]);
             suf_a[j] = area_of(b);
         }
         for (int j = 1; j < BINS; j++) {
@@ -255,60 +297,104 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
                 ar = suf_a[e];
             }
             float cost = al * (float)f + ar * (float)(n - f);
-            if (cost < best) best = cost, best_axis = axis, best_c = f;
+            if (cost < best) best = cost, best_axis = axis, best_c = f, best_bin = f == c ? j : -1;
         }
     }
-    if (best_axis < 0) { /* all centres equal: any cut, by id */
-        best_axis = 0;
-        best_c = (uint32_t)nearest_cut(n, (uint64_t)n * (uint64_t)(k / 2) / (uint64_t)k, k, lo, hi);
+    if (best_axis >= 0 && best_bin >= 0) {
+        /* the cut is a bin boundary: one partitioning pass, which also
+         * bounds both sides' centres */
+        const int a = best_axis;
+        rt_box_empty(cbl);
+        rt_box_empty(cbr);
+        uint32_t i = 0, j = n;
+        while (i < j) {
+            const float *c = s->cen + 3 * (size_t)v[i];
+            if (bin_of(c[a], cb[a], scale[a]) < best_bin) {
+                for (int d = 0; d < 3; d++) {
+                    cbl[d] = rt_min(cbl[d], c[d]);
+                    cbl[d + 3] = rt_max(cbl[d + 3], c[d]);
+                }
+                i++;
+            } else {
+                for (int d = 0; d < 3; d++) {
+                    cbr[d] = rt_min(cbr[d], c[d]);
+                    cbr[d + 3] = rt_max(cbr[d + 3], c[d]);
+                }
+                uint32_t t = v[i];
+                v[i] = v[--j];
+                v[j] = t;
+            }
+        }
+    } else {
+        if (best_axis < 0) { /* all centres equal: any cut, by id */
+            best_axis = 0;
+            best_c = (uint32_t)nearest_cut(n, (uint64_t)n * (uint64_t)(k / 2) / (uint64_t)k, k,
+                                           lo, hi);
+        }
+        select_first(s, best_axis, v, n, best_c);
+        centre_bounds(s, v, best_c, cbl);
+        centre_bounds(s, v + best_c, n - best_c, cbr);
     }
-    select_first(s, best_axis, v, n, best_c);
     *c_out = best_c;
     *k1_out = pick_k1(n, best_c, k, lo, hi);
 }
 
-/* Cuts v[0 .. n) into k groups of lo..hi triangles; their starts (offsets
- * from v) are appended to starts[*g]. */
+/* A group of a node's partition: where it starts, and its centres' bounds
+ * (known for the groups cut from bins, which are the large ones). */
+typedef struct group {
+    uint32_t start;
+    float cb[6];
+} group;
+
+/* Cuts v[0 .. n) (centre bounds cb, needed when n > SWEEP_MAX) into k groups
+ * of lo..hi triangles, appended to out[*g]. */
 static void partition(const sah *s, uint32_t *v, uint32_t off, uint32_t n, int k, uint64_t lo,
-                      uint64_t hi, uint32_t *starts, int *g)
+                      uint64_t hi, const float cb[6], group *out, int *g)
 {
     if (k == 1) {
-        starts[(*g)++] = off;
+        out[*g].start = off;
+        memcpy(out[*g].cb, cb, sizeof out[*g].cb);
+        (*g)++;
         return;
     }
     uint32_t c;
     int k1;
-    if (n <= SWEEP_MAX) cut_sweep(s, v, n, k, lo, hi, &c, &k1);
-    else cut_binned(s, v, n, k, lo, hi, &c, &k1);
-    partition(s, v, off, c, k1, lo, hi, starts, g);
-    partition(s, v + c, off + c, n - c, k - k1, lo, hi, starts, g);
+    float cbl[6], cbr[6];
+    if (n <= SWEEP_MAX) {
+        cut_sweep(s, v, n, k, lo, hi, &c, &k1);
+        rt_box_empty(cbl); /* not needed below: the parts are swept too */
+        rt_box_empty(cbr);
+    } else {
+        cut_binned(s, v, n, k, lo, hi, cb, &c, &k1, cbl, cbr);
+    }
+    partition(s, v, off, c, k1, lo, hi, cbl, out, g);
+    partition(s, v + c, off + c, n - c, k - k1, lo, hi, cbr, out, g);
 }
 
-/* The node on `level` holding idx[first .. first + n). */
-static void build_node(const sah *s, uint32_t first, uint32_t n, int level)
+/* The node on `level` holding idx[first .. first + n), centre bounds cb.
+ * It is as wide as the capacities allow: k = min(M, floor(n / lo)) children
+ * (measured against the fewest, ceil(n / hi), and halfway between: the
+ * widest gave the least SAH cost and the fastest rays on every scene). */
+static void build_node(const sah *s, uint32_t first, uint32_t n, int level, const float cb[6])
 {
     const uint64_t lo = s->lo[level - 1], hi = s->hi[level - 1];
-    const int kmin = level == s->root_level ? 2 : s->m;
     uint64_t kmax = n / lo;
     if (kmax > (uint64_t)s->M) kmax = (uint64_t)s->M;
-    uint64_t kneed = (n + hi - 1) / hi;
-    if (kneed < (uint64_t)kmin) kneed = (uint64_t)kmin;
-    static int policy = -1;
-    if (policy < 0) { const char *e = getenv("RTB_K"); policy = e ? atoi(e) : 0; }
-    const int k = policy == 0 ? (int)kmax : policy == 1 ? (int)kneed : (int)((kmax + kneed + 1) / 2);
-    uint32_t starts[TT_RT_MAX_M + 1];
+    const int k = (int)kmax;
+    group grp[TT_RT_MAX_M + 1];
     int g = 0;
-    partition(s, s->idx + first, first, n, k, lo, hi, starts, &g);
-    starts[g] = first + n;
-    for (int j = 1; j < g; j++) s->mark[starts[j]] = (uint8_t)level; /* level - 1, plus one */
+    partition(s, s->idx + first, first, n, k, lo, hi, cb, grp, &g);
+    grp[g].start = first + n;
+    for (int j = 1; j < g; j++) s->mark[grp[j].start] = (uint8_t)level; /* level - 1, plus one */
     if (level == 1) return;
     for (int j = 0; j < g; j++) {
-        const uint32_t f = starts[j], cn = starts[j + 1] - starts[j];
+        const uint32_t f = grp[j].start, cn = grp[j + 1].start - grp[j].start;
         if (cn >= TASK_MIN) {
-#pragma omp task firstprivate(f, cn)
-            build_node(s, f, cn, level - 1);
+            group one = grp[j];
+#pragma omp task firstprivate(f, cn, one)
+            build_node(s, f, cn, level - 1, one.cb);
         } else {
-            build_node(s, f, cn, level - 1);
+            build_node(s, f, cn, level - 1, grp[j].cb);
         }
     }
 }
@@ -345,9 +431,11 @@ tt_status rt_bulk_sah(rt_builder *b, tt_context *ctx, const tt_rtree_options *op
         for (uint32_t i = 0; i < T; i++) s.idx[i] = i;
         if (T > 0) s.mark[0] = (uint8_t)(L + 1);
         if (L > 0) {
+            float cb[6];
+            centre_bounds(&s, s.idx, T, cb);
 #pragma omp parallel num_threads(threads)
 #pragma omp single
-            build_node(&s, 0, T, L);
+            build_node(&s, 0, T, L, cb);
         }
         /* nodes per level from the marks: a level-l node starts where
          * mark > l */
