@@ -29,6 +29,10 @@
  * any number of threads. Subtrees are OpenMP tasks. */
 #include <string.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "accel/rtree/rtree_box.h"
 #include "accel/rtree/rtree_bulk.h"
 
@@ -158,17 +162,19 @@ static inline float area_of(const float b[6])
 
 /* ----------------------------------------------------------------- cuts */
 
-typedef struct item {
-    float c;
-    uint32_t id;
-} item;
+/* (centre, id) as one integer: the float's order in the high half, the id
+ * in the low half, so small ranges sort on plain integer compares. */
+static inline uint64_t item_key(float c, uint32_t id)
+{
+    return (uint64_t)rt_float_key(c) << 32 | id;
+}
 
-static void sort_items(item *a, uint32_t n) /* by (centre, id); n is small */
+static void sort_keys(uint64_t *a, uint32_t n) /* n is small */
 {
     for (uint32_t i = 1; i < n; i++) {
-        item x = a[i];
+        uint64_t x = a[i];
         uint32_t j = i;
-        while (j > 0 && (x.c < a[j - 1].c || (x.c == a[j - 1].c && x.id < a[j - 1].id))) {
+        while (j > 0 && x < a[j - 1]) {
             a[j] = a[j - 1];
             j--;
         }
@@ -181,7 +187,7 @@ static void sort_items(item *a, uint32_t n) /* by (centre, id); n is small */
 static void cut_sweep(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo, uint64_t hi,
                       uint32_t *c_out, int *k1_out)
 {
-    item sorted[3][SWEEP_MAX];
+    uint64_t sorted[3][SWEEP_MAX];
     float right[SWEEP_MAX];
     /* the feasible cuts, once (the union over k1 of the intervals) */
     uint8_t ok[SWEEP_MAX];
@@ -195,18 +201,18 @@ static void cut_sweep(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo,
     int best_axis = -1;
     uint32_t best_c = 0;
     for (int axis = 0; axis < 3; axis++) {
-        item *a = sorted[axis];
-        for (uint32_t i = 0; i < n; i++) a[i].c = s->cen[3 * (size_t)v[i] + axis], a[i].id = v[i];
-        sort_items(a, n);
+        uint64_t *a = sorted[axis];
+        for (uint32_t i = 0; i < n; i++) a[i] = item_key(s->cen[3 * (size_t)v[i] + axis], v[i]);
+        sort_keys(a, n);
         float b[6];
         rt_box_empty(b);
         for (uint32_t i = n; i-- > 1;) {
-            rt_box_grow(b, s->tri_box + 6 * (size_t)a[i].id);
+            rt_box_grow(b, s->tri_box + 6 * (size_t)(uint32_t)a[i]);
             right[i] = rt_box_area(b);
         }
         rt_box_empty(b);
         for (uint32_t c = 1; c < n; c++) {
-            rt_box_grow(b, s->tri_box + 6 * (size_t)a[c - 1].id);
+            rt_box_grow(b, s->tri_box + 6 * (size_t)(uint32_t)a[c - 1]);
             if (!ok[c]) continue;
             float cost = rt_box_area(b) * (float)c + right[c] * (float)(n - c);
             if (cost < best) best = cost, best_axis = axis, best_c = c;
@@ -216,7 +222,7 @@ static void cut_sweep(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo,
         best_axis = 0;
         best_c = (uint32_t)nearest_cut(n, n / 2, k, lo, hi);
     }
-    for (uint32_t i = 0; i < n; i++) v[i] = sorted[best_axis][i].id;
+    for (uint32_t i = 0; i < n; i++) v[i] = (uint32_t)sorted[best_axis][i];
     *c_out = best_c;
     *k1_out = pick_k1(n, best_c, k, lo, hi);
 }
@@ -248,10 +254,39 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
     uint32_t cnt[3][BINS];
     float box[3][BINS][6];
     memset(cnt, 0, sizeof cnt);
-    for (int a = 0; a < 3; a++) {
+    for (int a = 0; a < 3; a++)
         scale[a] = cb[a + 3] > cb[a] ? (float)BINS / (cb[a + 3] - cb[a]) : 0.0f;
-        for (int j = 0; j < BINS; j++) rt_box_empty(box[a][j]);
+#if defined(__SSE2__)
+    /* a bin's bounds as two 4-lane registers: lanes 0..2 of lo hold the
+     * minima (lane 3 unused), lanes 1..3 of hi the maxima (lane 0 unused),
+     * so that one triangle box (6 floats) is two unaligned loads */
+    __m128 blo[3][BINS], bhi[3][BINS];
+    for (int a = 0; a < 3; a++)
+        for (int j = 0; j < BINS; j++) {
+            blo[a][j] = _mm_set1_ps(TT_INF);
+            bhi[a][j] = _mm_set1_ps(-TT_INF);
+        }
+    for (uint32_t i = 0; i < n; i++) {
+        const float *c = s->cen + 3 * (size_t)v[i], *tb = s->tri_box + 6 * (size_t)v[i];
+        const __m128 lo4 = _mm_loadu_ps(tb), hi4 = _mm_loadu_ps(tb + 2);
+        for (int a = 0; a < 3; a++) {
+            const int j = bin_of(c[a], cb[a], scale[a]);
+            cnt[a][j]++;
+            blo[a][j] = _mm_min_ps(blo[a][j], lo4);
+            bhi[a][j] = _mm_max_ps(bhi[a][j], hi4);
+        }
     }
+    for (int a = 0; a < 3; a++)
+        for (int j = 0; j < BINS; j++) {
+            float l[4], h[4];
+            _mm_storeu_ps(l, blo[a][j]);
+            _mm_storeu_ps(h, bhi[a][j]);
+            const float b6[6] = {l[0], l[1], l[2], h[1], h[2], h[3]};
+            memcpy(box[a][j], b6, sizeof b6);
+        }
+#else
+    for (int a = 0; a < 3; a++)
+        for (int j = 0; j < BINS; j++) rt_box_empty(box[a][j]);
     for (uint32_t i = 0; i < n; i++) {
         const float *c = s->cen + 3 * (size_t)v[i], *tb = s->tri_box + 6 * (size_t)v[i];
         for (int a = 0; a < 3; a++) {
@@ -260,6 +295,7 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
             rt_box_grow(box[a][j], tb);
         }
     }
+#endif
     float best = TT_INF;
     int best_axis = -1, best_bin = 0;
     uint32_t best_c = 0;
