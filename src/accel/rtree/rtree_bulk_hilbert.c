@@ -11,6 +11,18 @@
 
 #define HILBERT_BITS 21
 
+/* The low 21 bits of x spread out to every third bit. */
+static inline uint64_t spread3(uint32_t x)
+{
+    uint64_t v = x & 0x1FFFFFu;
+    v = (v | v << 32) & 0x001F00000000FFFFull;
+    v = (v | v << 16) & 0x001F0000FF0000FFull;
+    v = (v | v << 8) & 0x100F00F00F00F00Full;
+    v = (v | v << 4) & 0x10C30C30C30C30C3ull;
+    v = (v | v << 2) & 0x1249249249249249ull;
+    return v;
+}
+
 /* Skilling's construction ("Programming the Hilbert curve", 2004): the
  * coordinates are transformed in place into the "transposed" Hilbert index
  * (undo the excess rotations and reflections level by level, then Gray-
@@ -37,10 +49,8 @@ uint64_t rt_hilbert_key(uint32_t x, uint32_t y, uint32_t z, int bits)
     for (uint32_t q = top; q > 1; q >>= 1)
         if (X[2] & q) t ^= q - 1;
     for (int i = 0; i < 3; i++) X[i] ^= t;
-    uint64_t key = 0;
-    for (int bit = bits - 1; bit >= 0; bit--)
-        for (int i = 0; i < 3; i++) key = (key << 1) | ((X[i] >> bit) & 1u);
-    return key;
+    /* interleave: bit b of X[0], X[1], X[2] become bits 3b + 2, 3b + 1, 3b */
+    return spread3(X[0]) << 2 | spread3(X[1]) << 1 | spread3(X[2]);
 }
 
 tt_status rt_bulk_hilbert(rt_builder *b, tt_context *ctx, const tt_rtree_options *opt,
