@@ -407,12 +407,129 @@ static void partition(const sah *s, uint32_t *v, uint32_t off, uint32_t n, int k
     partition(s, v + c, off + c, n - c, k - k1, lo, hi, cbr, out, g);
 }
 
+/* ------------------------------------------------------ small subtrees */
+
+/* A whole subtree of at most SWEEP_MAX triangles is built on three lists of
+ * its triangles sorted by centre along each axis, sorted once: a cut takes
+ * the first c of one list and stably partitions the other two, so every
+ * range keeps its three sorted lists and no cut sorts again. Entries are
+ * local indices (ties between equal centres go by them). */
+typedef struct small {
+    const sah *s;
+    uint32_t first;             /* position of the subtree in idx */
+    uint32_t id[SWEEP_MAX];     /* local index -> triangle id */
+    uint8_t list[3][SWEEP_MAX]; /* local indices in centre order per axis */
+    uint8_t left[SWEEP_MAX];    /* scratch: on the left of the cut */
+} small;
+
+/* The exact sweep of cut_sweep on the range [a, a + n) of the lists. */
+static void small_cut(small *sm, uint32_t a, uint32_t n, int k, uint64_t lo, uint64_t hi,
+                      uint32_t *c_out, int *k1_out)
+{
+    const sah *s = sm->s;
+    uint8_t ok[SWEEP_MAX];
+    memset(ok, 0, n);
+    for (int k1 = 1; k1 < k; k1++) {
+        uint64_t x, y;
+        if (cut_interval(n, k, k1, lo, hi, &x, &y))
+            for (uint64_t c = x; c <= y; c++) ok[c] = 1;
+    }
+    float right[SWEEP_MAX], best = TT_INF;
+    int best_axis = -1;
+    uint32_t best_c = 0;
+    for (int axis = 0; axis < 3; axis++) {
+        const uint8_t *l = sm->list[axis] + a;
+        float b[6];
+        rt_box_empty(b);
+        for (uint32_t i = n; i-- > 1;) {
+            rt_box_grow(b, s->tri_box + 6 * (size_t)sm->id[l[i]]);
+            right[i] = rt_box_area(b);
+        }
+        rt_box_empty(b);
+        for (uint32_t c = 1; c < n; c++) {
+            rt_box_grow(b, s->tri_box + 6 * (size_t)sm->id[l[c - 1]]);
+            if (!ok[c]) continue;
+            float cost = rt_box_area(b) * (float)c + right[c] * (float)(n - c);
+            if (cost < best) best = cost, best_axis = axis, best_c = c;
+        }
+    }
+    if (best_axis < 0) { /* cannot happen for a feasible range */
+        best_axis = 0;
+        best_c = (uint32_t)nearest_cut(n, n / 2, k, lo, hi);
+    }
+    const uint8_t *l = sm->list[best_axis] + a;
+    for (uint32_t i = 0; i < n; i++) sm->left[l[i]] = i < best_c;
+    for (int axis = 0; axis < 3; axis++) {
+        if (axis == best_axis) continue;
+        uint8_t *m = sm->list[axis] + a, tmp[SWEEP_MAX];
+        uint32_t nl = 0, nr = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            if (sm->left[m[i]]) m[nl++] = m[i];
+            else tmp[nr++] = m[i];
+        }
+        memcpy(m + nl, tmp, nr);
+    }
+    *c_out = best_c;
+    *k1_out = pick_k1(n, best_c, k, lo, hi);
+}
+
+static void small_partition(small *sm, uint32_t a, uint32_t n, int k, uint64_t lo, uint64_t hi,
+                            uint32_t *starts, int *g)
+{
+    if (k == 1) {
+        starts[(*g)++] = a;
+        return;
+    }
+    uint32_t c;
+    int k1;
+    small_cut(sm, a, n, k, lo, hi, &c, &k1);
+    small_partition(sm, a, c, k1, lo, hi, starts, g);
+    small_partition(sm, a + c, n - c, k - k1, lo, hi, starts, g);
+}
+
+static void small_node(small *sm, uint32_t a, uint32_t n, int level)
+{
+    const sah *s = sm->s;
+    const uint64_t lo = s->lo[level - 1], hi = s->hi[level - 1];
+    uint64_t kmax = n / lo;
+    if (kmax > (uint64_t)s->M) kmax = (uint64_t)s->M;
+    uint32_t starts[TT_RT_MAX_M + 1];
+    int g = 0;
+    small_partition(sm, a, n, (int)kmax, lo, hi, starts, &g);
+    starts[g] = a + n;
+    for (int j = 1; j < g; j++) s->mark[sm->first + starts[j]] = (uint8_t)level;
+    if (level == 1) return;
+    for (int j = 0; j < g; j++) small_node(sm, starts[j], starts[j + 1] - starts[j], level - 1);
+}
+
+/* The subtree on `level` holding idx[first .. first + n), n <= SWEEP_MAX. */
+static void build_small(const sah *s, uint32_t first, uint32_t n, int level)
+{
+    small sm;
+    sm.s = s;
+    sm.first = first;
+    uint32_t *v = s->idx + first;
+    for (uint32_t i = 0; i < n; i++) sm.id[i] = v[i];
+    for (int axis = 0; axis < 3; axis++) {
+        uint64_t key[SWEEP_MAX];
+        for (uint32_t i = 0; i < n; i++) key[i] = item_key(s->cen[3 * (size_t)v[i] + axis], i);
+        sort_keys(key, n);
+        for (uint32_t i = 0; i < n; i++) sm.list[axis][i] = (uint8_t)key[i];
+    }
+    small_node(&sm, 0, n, level);
+    for (uint32_t i = 0; i < n; i++) v[i] = sm.id[sm.list[0][i]];
+}
+
 /* The node on `level` holding idx[first .. first + n), centre bounds cb.
  * It is as wide as the capacities allow: k = min(M, floor(n / lo)) children
  * (measured against the fewest, ceil(n / hi), and halfway between: the
  * widest gave the least SAH cost and the fastest rays on every scene). */
 static void build_node(const sah *s, uint32_t first, uint32_t n, int level, const float cb[6])
 {
+    if (n <= SWEEP_MAX) {
+        build_small(s, first, n, level);
+        return;
+    }
     const uint64_t lo = s->lo[level - 1], hi = s->hi[level - 1];
     uint64_t kmax = n / lo;
     if (kmax > (uint64_t)s->M) kmax = (uint64_t)s->M;
