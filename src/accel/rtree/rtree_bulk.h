@@ -27,6 +27,13 @@ tt_status rt_bulk_build(rt_builder *b, tt_context *ctx, const tt_rtree_options *
 /* OpenMP threads for the build: the context's, or OpenMP's default. */
 int rt_bulk_threads(tt_context *ctx);
 
+/* Below this many entries a pass runs on one thread. Measured on the shared
+ * 2-core machine: every parallel region costs a wake-up of the other
+ * thread, which under load can take a scheduler slice, so on the bunny
+ * (69k triangles) two threads were up to 3x slower than one; the regions
+ * pay from a few hundred thousand entries on. */
+#define RT_BULK_PARALLEL_MIN (1u << 18)
+
 /* Sets b's options and allocates a pool of exactly `nodes` nodes, all in
  * use (headers zeroed, boxes zeroed). */
 tt_status rt_bulk_pool(rt_builder *b, tt_context *ctx, const tt_rtree_options *opt,

@@ -74,7 +74,7 @@ void rt_bulk_make_level(rt_builder *b, int level, const uint32_t *items, const u
                         uint32_t g, uint32_t first, int threads)
 {
     const int cap = b->cap;
-#pragma omp parallel for schedule(static) num_threads(threads) if (g > 4096)
+#pragma omp parallel for schedule(static) num_threads(threads) if (g >= RT_BULK_PARALLEL_MIN / 4)
     for (uint32_t j = 0; j < g; j++) {
         const uint32_t n = first + j;
         rt_node_hdr *h = &b->hdr[n];

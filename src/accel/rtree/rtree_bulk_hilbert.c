@@ -78,7 +78,7 @@ tt_status rt_bulk_hilbert(rt_builder *b, tt_context *ctx, const tt_rtree_options
         const double cells = (double)((1u << HILBERT_BITS) - 1);
         double scale[3];
         for (int k = 0; k < 3; k++) scale[k] = hi[k] > lo[k] ? cells / ((double)hi[k] - lo[k]) : 0.0;
-#pragma omp parallel for schedule(static) num_threads(threads) if (T > 65536)
+#pragma omp parallel for schedule(static) num_threads(threads) if (T >= RT_BULK_PARALLEL_MIN)
         for (size_t i = 0; i < T; i++) {
             uint32_t q[3];
             for (int k = 0; k < 3; k++) {

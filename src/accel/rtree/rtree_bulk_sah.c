@@ -586,7 +586,7 @@ tt_status rt_bulk_sah(rt_builder *b, tt_context *ctx, const tt_rtree_options *op
         if (L > 0) {
             float cb[6];
             centre_bounds(&s, s.idx, T, cb);
-#pragma omp parallel num_threads(threads)
+#pragma omp parallel num_threads(threads) if (T >= RT_BULK_PARALLEL_MIN / 2)
 #pragma omp single
             build_node(&s, 0, T, L, cb);
         }

@@ -10,8 +10,6 @@
 
 #define DIGIT_BITS 11
 #define BUCKETS (1u << DIGIT_BITS)
-/* below this, one thread sorts: the passes are too short to share */
-#define PARALLEL_MIN 65536
 #define SMALL 32
 
 static void insertion_sort(uint64_t *key, uint32_t *val, size_t n, uint64_t mask)
@@ -38,7 +36,7 @@ tt_status rt_radix_sort(tt_context *ctx, uint64_t *key, uint32_t *val, uint64_t 
         insertion_sort(key, val, n, mask);
         return TT_OK;
     }
-    int chunks = n >= PARALLEL_MIN ? threads : 1;
+    int chunks = n >= RT_BULK_PARALLEL_MIN ? threads : 1;
     if (chunks < 1) chunks = 1;
     if (chunks > 64) chunks = 64;
     uint32_t local[BUCKETS];

@@ -41,7 +41,7 @@ static tt_status str_order(tt_context *ctx, str_scratch *s, const float *cen, ui
     tt_status st = rt_radix_sort(ctx, s->key, s->val, s->tk, s->tv, n, 32, s->threads);
     if (st != TT_OK) return st;
     const long slabs = (long)((n + slab - 1) / slab);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(s->threads) if (slabs > 1 && n > 4096)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(s->threads) if (slabs > 1 && n >= RT_BULK_PARALLEL_MIN)
     for (long k = 0; k < slabs; k++) {
         const size_t lo = (size_t)k * slab, hi = lo + slab < n ? lo + slab : n;
         sort_segment(s, cen, lo, hi, 1);
