@@ -35,9 +35,10 @@ static int parse_rtree(cli_args *a, cli_accel_args *x, const char *opt, const ch
     tt_rtree_options *r = &x->build.rtree;
     int k, st;
     /* the options of insertion, refused with a bulk loader (finish) */
-    if (strcmp(opt, "--build") != 0 && strcmp(opt, "--m") != 0 && strcmp(opt, "--M") != 0 &&
-        !x->insert_opt)
-        x->insert_opt = opt;
+    static const char *const insert_only[] = {"--strategy", "--reinsert", "--reinsert-fraction",
+                                              "--reinsert-mode", "--split"};
+    for (int i = 0; i < COUNT(insert_only) && !x->insert_opt; i++)
+        if (strcmp(opt, insert_only[i]) == 0) x->insert_opt = opt;
     if (strcmp(opt, "--build") == 0) {
         st = cli_parse_choice(cmd, opt, v, rtree_builds, COUNT(rtree_builds), &k);
         r->build = (tt_rtree_build)k;

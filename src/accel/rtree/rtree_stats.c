@@ -7,6 +7,8 @@
  * (one traversal step per interior node reached). sah_cost_boxes charges
  * an interior node one unit per child box instead, which is what an M-ary
  * traversal actually tests.
+ * insert_s is the time to build the pointer tree, by insertion or by a bulk
+ * loader (--build); pack_s the packing.
  * These are the tree-quality figures that compare the builders (insert,
  * str, hilbert, sah) on one scene, with leaf_fill (triangles per leaf) and
  * interior_fill (entries per interior node), averages over the real nodes.
