@@ -27,11 +27,12 @@ typedef struct tt_kd_kernels {
     tt_kd_occluded_fn occluded;
 } tt_kd_kernels;
 
-/* The kernels for a resolved isa: AVX2 and AVX-512 test leaves of two or
+/* The kernels for a resolved isa: AVX2 and AVX-512 test leaves of four or
  * more triangles eight at a time with gathers (kd_leaf_gather.h); scalar
- * and SSE4.2 (no gathers; four lanes measured no faster than the scalar
- * loop on leaves of three triangles on average) the scalar loop. Scenes
- * whose 9 * id overflows a gather's 32-bit index take the scalar loop. */
+ * and SSE4.2 (no gathers) the scalar loop: the gathered kernel measured
+ * only level with the scalar loop (leaves hold about three triangles), so
+ * a four-lane one was not written. Scenes whose 9 * id overflows a
+ * gather's 32-bit index take the scalar loop. */
 tt_kd_kernels tt_kd_cpu_kernels(tt_isa isa, size_t triangle_count);
 
 #if defined(TT_HAVE_X86_KERNELS)
