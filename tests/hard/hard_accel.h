@@ -47,7 +47,8 @@ static inline void hard_push(hard_variant *v, size_t *n, const tt_build_options 
  * strategy at (4, 16), (3, 8), the quadratic split, close reinsert, and each
  * bulk loader with every traversal at (2, 4) and at (3, 8), (4, 16); for the
  * kd-tree both builders x every traversal x sparse boxes every 1 or 3 levels
- * or none, plus the shadow-caster hint; any other structure with its
+ * or none, every traversal with each ISA's kernels, plus the shadow-caster
+ * hint; any other structure with its
  * defaults. */
 static inline size_t hard_variants(const char *name, hard_variant *v)
 {
@@ -121,6 +122,20 @@ static inline size_t hard_variants(const char *name, hard_variant *v)
                              dmins[d]);
                     hard_push(v, &n, &k, label);
                 }
+        /* The variants above run the best ISA (options.isa auto); every
+         * other ISA this CPU runs, each traversal once. */
+        for (int i = TT_ISA_SCALAR; i < (int)tt_isa_best(); i++) {
+            if (!tt_isa_supported((tt_isa)i)) continue;
+            for (int t = TT_KD_HTR; t <= TT_KD_SEQ; t++) {
+                tt_build_options k = o;
+                k.isa = (tt_isa)i;
+                k.kdtree.traversal = (tt_kd_traversal)t;
+                k.kdtree.dmin = 2;
+                snprintf(label, sizeof label, "kdtree nlogn traversal=%s dmin=2 isa=%s",
+                         hard_kd_traversal_names[t], tt_isa_name((tt_isa)i));
+                hard_push(v, &n, &k, label);
+            }
+        }
         for (int t = TT_KD_BTR; t <= TT_KD_SEQ; t++) { /* htr has no boxes to start from */
             tt_build_options k = o;
             k.kdtree.traversal = (tt_kd_traversal)t;
