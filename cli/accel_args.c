@@ -8,6 +8,7 @@
 static const char *const strategies[] = {"min-volume", "min-surface", "min-overlap", "rstar",
                                          "rstar-surface"};
 static const char *const splits[] = {"rstar", "quadratic"};
+static const char *const rtree_builds[] = {"insert", "str", "hilbert", "sah"};
 static const char *const rtree_traversals[] = {"auto", "stackless", "ordered", "stack"};
 static const char *const kd_builders[] = {"nlogn", "nlog2n"};
 static const char *const kd_traversals[] = {"htr", "btr", "sltr", "seq"};
@@ -34,7 +35,15 @@ static int parse_rtree(cli_args *a, cli_accel_args *x, const char *opt, const ch
     const char *cmd = a->cmd;
     tt_rtree_options *r = &x->build.rtree;
     int k, st;
-    if (strcmp(opt, "--strategy") == 0) {
+    /* the options of insertion, refused with a bulk loader (finish) */
+    static const char *const insert_only[] = {"--strategy", "--reinsert", "--reinsert-fraction",
+                                              "--reinsert-mode", "--split"};
+    for (int i = 0; i < COUNT(insert_only) && !x->insert_opt; i++)
+        if (strcmp(opt, insert_only[i]) == 0) x->insert_opt = opt;
+    if (strcmp(opt, "--build") == 0) {
+        st = cli_parse_choice(cmd, opt, v, rtree_builds, COUNT(rtree_builds), &k);
+        r->build = (tt_rtree_build)k;
+    } else if (strcmp(opt, "--strategy") == 0) {
         st = cli_parse_choice(cmd, opt, v, strategies, COUNT(strategies), &k);
         r->strategy = (tt_rtree_strategy)k;
     } else if (strcmp(opt, "--m") == 0) {
@@ -90,7 +99,7 @@ static int parse_kdtree(cli_args *a, cli_accel_args *x, const char *opt, const c
 
 int cli_accel_args_parse(cli_args *a, cli_accel_args *x, int *taken)
 {
-    static const char *const rtree_opts[] = {"--strategy", "--m", "--M", "--reinsert",
+    static const char *const rtree_opts[] = {"--build", "--strategy", "--m", "--M", "--reinsert",
                                              "--reinsert-fraction", "--reinsert-mode", "--split"};
     static const char *const kd_opts[] = {"--kd-build", "--dmin", "--ct", "--ci",
                                           "--empty-bonus", "--max-depth", "--shadow-hint"};
@@ -187,6 +196,9 @@ int cli_accel_args_finish(const char *cmd, cli_accel_args *x)
     if (rtree && 2 * r->m > r->M)
         return cli_usage_error(cmd, "options --m %d and --M %d: the R-tree needs 2 <= m <= M/2",
                                r->m, r->M);
+    if (rtree && r->build != TT_RTREE_BUILD_INSERT && x->insert_opt)
+        return cli_usage_error(cmd, "option %s applies to --build insert, not %s", x->insert_opt,
+                               rtree_builds[r->build]);
     if (rtree && r->reinsert_fraction * (float)(r->M + 1) < 1.0f)
         return cli_usage_error(cmd,
                                "option --reinsert-fraction %g: with --M %d it reinserts less than "
@@ -200,13 +212,16 @@ void cli_accel_args_emit(cli_emit *e, const tt_build_options *b)
     emit_str(e, "isa_requested", tt_isa_name(b->isa));
     if (strcmp(b->accel, "rtree") == 0) {
         const tt_rtree_options *r = &b->rtree;
-        emit_str(e, "strategy", strategies[r->strategy]);
+        emit_str(e, "build", rtree_builds[r->build]);
         emit_int(e, "m", r->m);
         emit_int(e, "M", r->M);
-        emit_str(e, "reinsert", on_off[r->reinsert != 0]);
-        emit_num(e, "reinsert_fraction", r->reinsert_fraction);
-        emit_str(e, "reinsert_mode", reinsert_modes[r->reinsert_far != 0]);
-        emit_str(e, "split", splits[r->split]);
+        if (r->build == TT_RTREE_BUILD_INSERT) { /* the others do not use these */
+            emit_str(e, "strategy", strategies[r->strategy]);
+            emit_str(e, "reinsert", on_off[r->reinsert != 0]);
+            emit_num(e, "reinsert_fraction", r->reinsert_fraction);
+            emit_str(e, "reinsert_mode", reinsert_modes[r->reinsert_far != 0]);
+            emit_str(e, "split", splits[r->split]);
+        }
         emit_str(e, "traversal", rtree_traversals[r->traversal]);
     } else if (strcmp(b->accel, "kdtree") == 0) {
         const tt_kdtree_options *kd = &b->kdtree;
@@ -237,6 +252,11 @@ void cli_accel_args_help(FILE *out)
             "  --embree-quality high|medium|low  BVH build quality (default high, as the\n"
             "                           papers' tables compare; medium is Embree's usual)\n"
             "R-tree (--accel rtree):\n"
+            "  --build NAME             insert|str|hilbert|sah (default insert): insertion\n"
+            "                           (Feldmann 2015) or a bulk loader for static scenes:\n"
+            "                           STR tiles, Hilbert-curve order, or top-down by the\n"
+            "                           surface area heuristic; the options below down to\n"
+            "                           --split apply to insert only\n"
             "  --strategy NAME          min-volume|min-surface|min-overlap|rstar|rstar-surface\n"
             "                           (default rstar-surface)\n"
             "  --m N, --M N             minimum and maximum entries a node, 2 <= m <= M/2,\n"

@@ -15,6 +15,7 @@ typedef struct cli_accel_args {
     const char *rtree_opt; /* the first R-tree option given, for messages     */
     const char *kd_opt;    /* the first kd-tree option given                  */
     const char *embree_opt; /* the Embree option given                        */
+    const char *insert_opt; /* the first insertion-only R-tree option given  */
     int m_given, M_given;
 } cli_accel_args;
 

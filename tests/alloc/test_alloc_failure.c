@@ -316,7 +316,7 @@ static void render_undo(void *p)
 }
 
 /* The main option variants of a structure: what changes how it is built
- * (the R-tree's strategies, reinsertion, split and node sizes; the
+ * (the R-tree's strategies, reinsertion, split, node sizes and bulk loaders; the
  * kd-tree's builders and sparse boxes) and each traversal once (some keep
  * per-traversal data). Other structures: their defaults. */
 static size_t variants(const char *name, tt_build_options *v, const char **label)
@@ -339,6 +339,11 @@ static size_t variants(const char *name, tt_build_options *v, const char **label
         v[n] = o, v[n].rtree.m = 4, v[n].rtree.M = 16, label[n++] = "m=4 M=16";
         v[n] = o, v[n].rtree.reinsert_far = 0, v[n].rtree.traversal = TT_RTREE_STACK;
         label[n++] = "close reinsert, stack traversal";
+        v[n] = o, v[n].rtree.build = TT_RTREE_BUILD_STR, label[n++] = "build str";
+        v[n] = o, v[n].rtree.build = TT_RTREE_BUILD_HILBERT, label[n++] = "build hilbert";
+        v[n] = o, v[n].rtree.build = TT_RTREE_BUILD_SAH, label[n++] = "build sah";
+        v[n] = o, v[n].rtree.build = TT_RTREE_BUILD_SAH, v[n].rtree.m = 4, v[n].rtree.M = 16;
+        label[n++] = "build sah m=4 M=16";
     } else if (strcmp(name, "kdtree") == 0) {
         static const char *const t_names[] = {"nlogn htr dmin=1", "nlogn btr dmin=1",
                                               "nlogn sltr dmin=1", "nlogn seq dmin=1"};

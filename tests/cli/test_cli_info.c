@@ -87,5 +87,22 @@ int main(void)
     snprintf(scene, sizeof scene, "%s", tt_cli_tmp("known.ply"));
     if (tt_known_write_ply(scene) != 0) return 1;
     for (const char *const *n = tt_accel_names(); *n; n++) test_structure(scene, *n);
+    /* the R-tree's builders: each named in the output with its quality
+     * figures, the insertion-only options only for insert */
+    static const char *const builds[] = {"insert", "str", "hilbert", "sah"};
+    for (int b = 0; b < 4 && tt_test_has_accel("rtree"); b++) {
+        tt_cli_result r;
+        tt_cli_run(&r, "info '%s' --accel rtree --build %s --M 8 --m 3", scene, builds[b]);
+        char line[64];
+        snprintf(line, sizeof line, "\nbuild: %s\n", builds[b]);
+        CHECK_MSG(r.status == 0 && strstr(r.out, line) && strstr(r.out, "\nM: 8\n") &&
+                      strstr(r.out, "statistics.sah_cost: ") &&
+                      strstr(r.out, "statistics.leaf_fill: ") &&
+                      strstr(r.out, "statistics.interior_fill: ") &&
+                      strstr(r.out, "check: ok\n") &&
+                      (strstr(r.out, "\nstrategy: ") != NULL) == (b == 0),
+                  "info --build %s: exit %d: %s%s", builds[b], r.status, r.out, r.err);
+        tt_cli_result_free(&r);
+    }
     return tt_test_finish();
 }

@@ -121,6 +121,14 @@ static void test_structure_option_errors(void)
         expect_status(2, "'linear'", "render --accel rtree --split linear");
         expect_status(2, "'htr'", "render --accel rtree --traversal htr");
         expect_status(2, "--dmin", "render --accel rtree --dmin 2");
+        expect_status(2, "'quick'", "render --accel rtree --build quick");
+        /* the insertion options with a bulk loader: refused, never ignored */
+        expect_status(2, "--strategy applies to --build insert, not sah",
+                      "render --build sah --strategy rstar");
+        expect_status(2, "--reinsert applies to --build insert, not str",
+                      "render --reinsert off --build str");
+        expect_status(2, "--split applies to --build insert, not hilbert",
+                      "render --accel rtree --build hilbert --split quadratic");
     }
     if (tt_test_has_accel("kdtree")) {
         expect_status(2, "'nlogn2'", "render --accel kdtree --kd-build nlogn2");
@@ -133,6 +141,7 @@ static void test_structure_option_errors(void)
         expect_status(2, "--shadow-hint caster", "render --accel kdtree --shadow-hint caster");
         expect_status(2, "'stack'", "render --accel kdtree --traversal stack");
         expect_status(2, "--strategy", "render --accel kdtree --strategy rstar");
+        expect_status(2, "--build", "render --accel kdtree --build sah");
     }
 }
 

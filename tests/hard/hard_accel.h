@@ -44,9 +44,11 @@ static inline void hard_push(hard_variant *v, size_t *n, const tt_build_options 
 
 /* The variants of structure `name`: for the R-tree every insertion strategy
  * x forced reinsert on/off x every traversal at (m, M) = (2, 4), every
- * strategy at (4, 16), (3, 8), the quadratic split, close reinsert; for the
+ * strategy at (4, 16), (3, 8), the quadratic split, close reinsert, and each
+ * bulk loader with every traversal at (2, 4) and at (3, 8), (4, 16); for the
  * kd-tree both builders x every traversal x sparse boxes every 1 or 3 levels
- * or none, plus the shadow-caster hint; any other structure with its
+ * or none, every traversal with each ISA's kernels, plus the shadow-caster
+ * hint; any other structure with its
  * defaults. */
 static inline size_t hard_variants(const char *name, hard_variant *v)
 {
@@ -91,6 +93,21 @@ static inline size_t hard_variants(const char *name, hard_variant *v)
         r.rtree.reinsert_fraction = 0.5f;
         r.rtree.traversal = TT_RTREE_STACK;
         hard_push(v, &n, &r, "rtree close reinsert fraction 0.5 traversal=stack");
+        /* the bulk loaders: every traversal at (2, 4), and (3, 8), (4, 16) */
+        static const char *const builds[] = {"insert", "str", "hilbert", "sah"};
+        static const int mm[3][2] = {{2, 4}, {3, 8}, {4, 16}};
+        for (int b = TT_RTREE_BUILD_STR; b <= TT_RTREE_BUILD_SAH; b++)
+            for (int q = 0; q < 3; q++)
+                for (int t = TT_RTREE_AUTO; t <= TT_RTREE_STACK; t++) {
+                    if (q > 0 && t != (b + q) % 4) continue; /* one traversal each */
+                    r = o;
+                    r.rtree.build = (tt_rtree_build)b;
+                    r.rtree.m = mm[q][0], r.rtree.M = mm[q][1];
+                    r.rtree.traversal = (tt_rtree_traversal)t;
+                    snprintf(label, sizeof label, "rtree build=%s m=%d M=%d traversal=%s",
+                             builds[b], mm[q][0], mm[q][1], hard_rtree_traversal_names[t]);
+                    hard_push(v, &n, &r, label);
+                }
     } else if (strcmp(name, "kdtree") == 0) {
         static const int dmins[3] = {1, 3, -1};
         for (int b = TT_KD_NLOGN; b <= TT_KD_NLOG2N; b++)
@@ -105,6 +122,20 @@ static inline size_t hard_variants(const char *name, hard_variant *v)
                              dmins[d]);
                     hard_push(v, &n, &k, label);
                 }
+        /* The variants above run the best ISA (options.isa auto); every
+         * other ISA this CPU runs, each traversal once. */
+        for (int i = TT_ISA_SCALAR; i < (int)tt_isa_best(); i++) {
+            if (!tt_isa_supported((tt_isa)i)) continue;
+            for (int t = TT_KD_HTR; t <= TT_KD_SEQ; t++) {
+                tt_build_options k = o;
+                k.isa = (tt_isa)i;
+                k.kdtree.traversal = (tt_kd_traversal)t;
+                k.kdtree.dmin = 2;
+                snprintf(label, sizeof label, "kdtree nlogn traversal=%s dmin=2 isa=%s",
+                         hard_kd_traversal_names[t], tt_isa_name((tt_isa)i));
+                hard_push(v, &n, &k, label);
+            }
+        }
         for (int t = TT_KD_BTR; t <= TT_KD_SEQ; t++) { /* htr has no boxes to start from */
             tt_build_options k = o;
             k.kdtree.traversal = (tt_kd_traversal)t;

@@ -9,31 +9,11 @@
  * nor an interval test with a tolerance: it is found in the first of its
  * cells the ray visits and cannot be beaten by a triangle further on. */
 #include "accel/kdtree/kd_ray.h"
+#include "accel/kdtree/kd_best.h"
 #include "geometry/triangle.h"
 
-/* The running result of one ray. */
-#ifndef TT_KD_BEST_DEFINED
-#define TT_KD_BEST_DEFINED
-typedef struct tt_kd_best {
-    float t, u, v;
-    uint32_t prim;
-} tt_kd_best;
-
-TT_HD void tt_kd_best_init(tt_kd_best *b, const tt_wray *r)
-{
-    b->t = r->tmax;
-    b->u = b->v = 0.0f;
-    b->prim = TT_INVALID_ID;
-}
-
-TT_HD void tt_kd_best_store(const tt_kd_best *b, tt_hit *hit)
-{
-    hit->t = b->prim == TT_INVALID_ID ? TT_INF : b->t;
-    hit->u = b->u;
-    hit->v = b->v;
-    hit->prim = b->prim;
-}
-
+#ifndef TT_KD_KEY_DEFINED
+#define TT_KD_KEY_DEFINED
 /* The stackless traversals move from cell to cell by plane crossings
  * compared as keys: the distance t, then, for planes crossed at exactly
  * the same t, the pass's rank of the plane's axis (as if the ray were
@@ -141,10 +121,19 @@ TT_HD int tt_kd_near_faces(const tt_kd_aug *a, const tt_wray *r, const tt_kd_key
 #endif
 
 /* Tests a leaf's triangles. Closest hit (any == 0): narrows *best, returns
- * 0. Any hit: returns 1 at the first hit on [tmin, best->t). */
+ * 0. Any hit: returns 1 at the first hit on [tmin, best->t).
+ *
+ * A per-ISA unit (kd_trace_avx2.c ...) defines TT_KD_LEAF_FAST to its own
+ * leaf kernel, with the same results, for the fast variant it compiles; the
+ * counting variant always runs this loop, so statistics count one triangle
+ * test per triangle whatever the ISA. */
 TT_HD int TT_VARIANT(tt_kd_leaf)(const tt_kd_view *T, tt_kd_node leaf, const tt_wray *r, int any,
                                  tt_kd_best *best, tt_ray_stats *stats)
 {
+#if defined(TT_KD_LEAF_FAST) && !TT_STATS
+    (void)stats;
+    return TT_KD_LEAF_FAST(T, leaf, r, any, best);
+#else
     const uint32_t count = tt_kd_leaf_count(leaf.bits);
     const uint32_t *refs = T->refs + leaf.u.first;
     (void)stats;
@@ -164,6 +153,7 @@ TT_HD int TT_VARIANT(tt_kd_leaf)(const tt_kd_view *T, tt_kd_node leaf, const tt_
         }
     }
     return 0;
+#endif
 }
 
 /* Descends from *node to the leaf the ray enters after *tentry (the "first

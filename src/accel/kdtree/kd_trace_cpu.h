@@ -15,6 +15,37 @@ void tt_kd_cpu_intersect_stats(const tt_kd_view *T, int traversal, const tt_wray
 int tt_kd_cpu_occluded_stats(const tt_kd_view *T, int traversal, const tt_wray *r, uint32_t hint,
                              uint32_t caster, uint32_t *end, tt_ray_stats *stats);
 
+/* The fast entry points of one ISA: tt_kd_cpu_intersect / _occluded's
+ * signatures and results. A tree resolves them once when it is built
+ * (tt_kd_cpu_kernels) and calls them through these pointers. */
+typedef void (*tt_kd_intersect_fn)(const tt_kd_view *T, int traversal, const tt_wray *r,
+                                   uint32_t hint, tt_hit *hit, uint32_t *end);
+typedef int (*tt_kd_occluded_fn)(const tt_kd_view *T, int traversal, const tt_wray *r,
+                                 uint32_t hint, uint32_t caster, uint32_t *end);
+typedef struct tt_kd_kernels {
+    tt_kd_intersect_fn intersect;
+    tt_kd_occluded_fn occluded;
+} tt_kd_kernels;
+
+/* The kernels for a resolved isa: AVX2 and AVX-512 test leaves of four or
+ * more triangles eight at a time with gathers (kd_leaf_gather.h); scalar
+ * and SSE4.2 (no gathers) the scalar loop: the gathered kernel measured
+ * only level with the scalar loop (leaves hold about three triangles), so
+ * a four-lane one was not written. Scenes whose 9 * id overflows a
+ * gather's 32-bit index take the scalar loop. */
+tt_kd_kernels tt_kd_cpu_kernels(tt_isa isa, size_t triangle_count);
+
+#if defined(TT_HAVE_X86_KERNELS)
+void tt_kd_avx2_intersect(const tt_kd_view *T, int traversal, const tt_wray *r, uint32_t hint,
+                          tt_hit *hit, uint32_t *end);
+int tt_kd_avx2_occluded(const tt_kd_view *T, int traversal, const tt_wray *r, uint32_t hint,
+                        uint32_t caster, uint32_t *end);
+void tt_kd_avx512_intersect(const tt_kd_view *T, int traversal, const tt_wray *r, uint32_t hint,
+                            tt_hit *hit, uint32_t *end);
+int tt_kd_avx512_occluded(const tt_kd_view *T, int traversal, const tt_wray *r, uint32_t hint,
+                          uint32_t caster, uint32_t *end);
+#endif
+
 /* SLTR (seq == 0) or SEQ with a near-tie search budget of `spare` descents
  * instead of TT_KD_SPARE, for the tests that force or measure the fallback
  * (see kd_trace_sltr.h): the closest hit (any == 0) into *hit, or the

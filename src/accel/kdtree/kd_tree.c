@@ -142,6 +142,7 @@ tt_status tt_kdtree_build(tt_context *ctx, const tt_scene *scene, const tt_kdtre
     t->view.aug = t->aug;
     t->view.aug_count = t->aug_count;
     t->view.empty = b.tri_count == 0;
+    t->fast = tt_kd_cpu_kernels(TT_ISA_SCALAR, scene->triangle_count);
     double sum_depth = 0.0, root_area = half_area(&root);
     measure(t, 0, &root, 0, &sum_depth);
     t->depth_mean = t->leaves ? sum_depth / t->leaves : 0.0;

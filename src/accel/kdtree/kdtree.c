@@ -8,6 +8,7 @@ static tt_status kd_build(tt_accel *a)
 {
     tt_kdtree *t = NULL;
     tt_status st = tt_kdtree_build(a->ctx, a->scene, &a->options.kdtree, &t);
+    if (t) t->fast = tt_kd_cpu_kernels(a->isa, a->scene->triangle_count);
     a->impl = t;
     return st;
 }
@@ -35,15 +36,16 @@ static uint32_t caster_of(const tt_accel *a, const tt_trace_args *args)
 static void kd_intersect(const tt_accel *a, const tt_wray *r, tt_hit *hit, tt_trace_args *args)
 {
     uint32_t end;
-    tt_kd_cpu_intersect(&tree(a)->view, a->options.kdtree.traversal, r, hint_of(args), hit, &end);
+    tree(a)->fast.intersect(&tree(a)->view, a->options.kdtree.traversal, r, hint_of(args), hit,
+                            &end);
     if (args) args->end_hint = end;
 }
 
 static int kd_occluded(const tt_accel *a, const tt_wray *r, tt_trace_args *args)
 {
     uint32_t end;
-    int o = tt_kd_cpu_occluded(&tree(a)->view, a->options.kdtree.traversal, r, hint_of(args),
-                               caster_of(a, args), &end);
+    int o = tree(a)->fast.occluded(&tree(a)->view, a->options.kdtree.traversal, r, hint_of(args),
+                                   caster_of(a, args), &end);
     if (args) args->end_hint = end;
     return o;
 }

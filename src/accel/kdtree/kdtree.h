@@ -9,6 +9,7 @@
 
 #include "accel/accel.h"
 #include "accel/kdtree/kd_layout.h"
+#include "accel/kdtree/kd_trace_cpu.h"
 
 typedef struct tt_kdtree {
     tt_kd_node *nodes;
@@ -30,6 +31,10 @@ typedef struct tt_kdtree {
     int depth_max;
     double depth_mean; /* over leaves                                      */
     double sah_cost;   /* C_T sum SA(interior) + C_I sum n SA(leaf), / SA(root) */
+
+    /* The fast traversal entry points of the accel's ISA, set by the
+     * structure once built (kdtree.c); scalar until then. */
+    tt_kd_kernels fast;
 } tt_kdtree;
 
 /* Builds the tree for accel->scene with accel->options.kdtree (validated

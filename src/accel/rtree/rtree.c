@@ -3,6 +3,7 @@
  * by the stackless, ordered or stack traversal (rtree_trace*.h). */
 #include "accel/rtree/rtree.h"
 #include "accel/rtree/rtree_box.h"
+#include "accel/rtree/rtree_bulk.h"
 
 #include <math.h>
 #include <string.h>
@@ -19,6 +20,8 @@
 
 static tt_status validate(tt_context *ctx, const tt_rtree_options *o)
 {
+    if ((unsigned)o->build > TT_RTREE_BUILD_SAH)
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "rtree: unknown build %d", (int)o->build);
     if ((unsigned)o->strategy > TT_RTREE_RSTAR_SURFACE)
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "rtree: unknown strategy %d",
                         (int)o->strategy);
@@ -85,9 +88,15 @@ static tt_status rtree_build(tt_accel *a)
             bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
         }
     }
+    /* the same pointer tree from either kind of builder (the insertion
+     * options apply to insertion only) */
     rt_builder b;
-    st = rt_builder_init(&b, a->ctx, o, tri_box, T);
-    for (uint32_t i = 0; i < T && st == TT_OK; i++) st = rt_builder_insert_triangle(&b, i);
+    if (o->build == TT_RTREE_BUILD_INSERT) {
+        st = rt_builder_init(&b, a->ctx, o, tri_box, T);
+        for (uint32_t i = 0; i < T && st == TT_OK; i++) st = rt_builder_insert_triangle(&b, i);
+    } else {
+        st = rt_bulk_build(&b, a->ctx, o, tri_box, T);
+    }
     double t1 = tt_now();
     if (st == TT_OK) st = rt_pack(a->ctx, &b, scene->tri, t);
     double t2 = tt_now();

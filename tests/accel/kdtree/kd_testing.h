@@ -4,6 +4,7 @@
 #define TT_TEST_KD_TESTING_H
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "accel/kdtree/kdtree.h"
@@ -35,6 +36,42 @@ static inline void kd_traversal_views(const tt_accel *a, tt_accel views[4])
 }
 
 static const char *const kd_traversal_names[] = {"htr", "btr", "sltr", "seq"};
+
+/* The ISAs this CPU and build run (tt_isa_supported), scalar first. */
+static inline size_t kd_isas(tt_isa out[TT_ISA_AVX512 + 1])
+{
+    size_t n = 0;
+    for (int i = TT_ISA_SCALAR; i <= TT_ISA_AVX512; i++)
+        if (tt_isa_supported((tt_isa)i)) out[n++] = (tt_isa)i;
+    return n;
+}
+
+/* A view of kd-tree accel `a` running the fast kernels of `isa`: copies of
+ * the accel and tree structs sharing the tree's arrays, as a build with
+ * options.isa = isa would have them (tt_kd_cpu_kernels). Only `a` may be
+ * destroyed; free the view with kd_isa_view_free. */
+static inline tt_accel *kd_isa_view(const tt_accel *a, tt_isa isa)
+{
+    tt_accel *v = malloc(sizeof *v);
+    tt_kdtree *t = malloc(sizeof *t);
+    if (!v || !t) {
+        fprintf(stderr, "out of memory\n");
+        exit(1);
+    }
+    *v = *a;
+    *t = *tt_kdtree_of(a);
+    t->fast = tt_kd_cpu_kernels(isa, tt_scene_triangle_count(a->scene));
+    v->impl = t;
+    v->isa = isa;
+    return v;
+}
+
+static inline void kd_isa_view_free(tt_accel *v)
+{
+    if (!v) return;
+    free(v->impl);
+    free(v);
+}
 
 /* Walks both trees in parallel; returns 1 if they are the same tree (every
  * node's kind, split axis and position, augmentation and box, every leaf's

@@ -12,7 +12,8 @@
  * nearly (not exactly) equal computed crossing distances. Every traversal
  * must get those right too: the stack ones (htr, btr) widen crossings by a
  * rounding band, the stackless ones (sltr, seq) search the cells around
- * each entry point within that band. All four get the same rays. */
+ * each entry point within that band. All four get the same rays, with
+ * the fast kernels of every ISA this CPU runs. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -167,19 +168,26 @@ static void rays_on(tt_context *ctx, tt_scene *scene, const char *what, uint32_t
         tt_accel *kd = kd_build_with(ctx, scene, TT_KD_NLOGN, dmins[d], TT_KD_HTR);
         CHECK_OK(ctx, tt_accel_check(kd));
         const tt_kdtree *t = tt_kdtree_of(kd);
-        tt_accel views[4];
-        kd_traversal_views(kd, views);
-        for (int tr = 0; tr < 4; tr++) {
-            size_t n = plane_rays(scene, t, rays, n_plane, 7u + (uint32_t)d, 1);
-            size_t bad = tt_test_compare_random(scene, &views[tr], ref, n_random, 11u + (uint32_t)d);
-            CHECK_MSG(bad == 0, "%s, %s, dmin %d: %zu random rays disagree", what,
-                      kd_traversal_names[tr], dmins[d], bad);
-            bad = tt_test_compare_rays(&views[tr], ref, rays, n);
-            CHECK_MSG(bad == 0, "%s, %s, dmin %d: %zu split-plane rays disagree", what,
-                      kd_traversal_names[tr], dmins[d], bad);
-            bad = hinted(&views[tr], ref, rays, n, t->aug_count, 5u);
-            CHECK_MSG(bad == 0, "%s, %s, dmin %d: %zu hinted rays disagree", what,
-                      kd_traversal_names[tr], dmins[d], bad);
+        tt_isa isas[TT_ISA_AVX512 + 1];
+        const size_t n_isas = kd_isas(isas);
+        for (size_t i = 0; i < n_isas; i++) {
+            tt_accel *on = kd_isa_view(kd, isas[i]), views[4];
+            const char *isa = tt_isa_name(isas[i]);
+            kd_traversal_views(on, views);
+            for (int tr = 0; tr < 4; tr++) {
+                size_t n = plane_rays(scene, t, rays, n_plane, 7u + (uint32_t)d, 1);
+                size_t bad =
+                    tt_test_compare_random(scene, &views[tr], ref, n_random, 11u + (uint32_t)d);
+                CHECK_MSG(bad == 0, "%s, %s, %s, dmin %d: %zu random rays disagree", what,
+                          kd_traversal_names[tr], isa, dmins[d], bad);
+                bad = tt_test_compare_rays(&views[tr], ref, rays, n);
+                CHECK_MSG(bad == 0, "%s, %s, %s, dmin %d: %zu split-plane rays disagree", what,
+                          kd_traversal_names[tr], isa, dmins[d], bad);
+                bad = hinted(&views[tr], ref, rays, n, t->aug_count, 5u);
+                CHECK_MSG(bad == 0, "%s, %s, %s, dmin %d: %zu hinted rays disagree", what,
+                          kd_traversal_names[tr], isa, dmins[d], bad);
+            }
+            kd_isa_view_free(on);
         }
         tt_accel_destroy(kd);
     }

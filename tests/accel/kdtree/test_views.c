@@ -1,5 +1,5 @@
-/* Every traversal (htr, btr, sltr, seq) at several d_min agrees with
- * bruteforce ray by ray on views of the shared scenes: primary rays started
+/* Every traversal (htr, btr, sltr, seq) at several d_min, with the fast
+ * kernels of every ISA this CPU runs, agrees with bruteforce ray by ray on views of the shared scenes: primary rays started
  * from tt_accel_locate(eye), shadow rays from the primary ray's end node,
  * fast and counting variants, closest hit and occlusion. */
 #include "compare.h"
@@ -21,24 +21,33 @@ static void views(tt_context *ctx, const char *file, const shot *shots, size_t n
     bo.accel = "bruteforce";
     tt_accel *ref = NULL;
     REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &ref));
-    tt_accel *trees[MAX_DMINS], views[MAX_DMINS][4];
-    const tt_accel *tests[MAX_DMINS * 4];
+    tt_isa isas[TT_ISA_AVX512 + 1];
+    const size_t n_isas = kd_isas(isas);
+    tt_accel *trees[MAX_DMINS], *per_isa[MAX_DMINS][TT_ISA_AVX512 + 1],
+        views[MAX_DMINS][TT_ISA_AVX512 + 1][4];
+    const tt_accel *tests[MAX_DMINS * (TT_ISA_AVX512 + 1) * 4];
     size_t n = 0;
     for (size_t d = 0; d < n_dmins && d < MAX_DMINS; d++) {
         trees[d] = kd_build_with(ctx, scene, TT_KD_NLOGN, dmins[d], TT_KD_HTR);
-        kd_traversal_views(trees[d], views[d]);
-        for (int tr = 0; tr < 4; tr++) tests[n++] = &views[d][tr];
+        for (size_t i = 0; i < n_isas; i++) {
+            per_isa[d][i] = kd_isa_view(trees[d], isas[i]);
+            kd_traversal_views(per_isa[d][i], views[d][i]);
+            for (int tr = 0; tr < 4; tr++) tests[n++] = &views[d][i][tr];
+        }
     }
     for (size_t v = 0; v < n_shots; v++) {
         tt_camera cam;
         tt_test_view(ctx, shots[v].view, &cam);
         size_t bad = tt_test_compare_view_multi(scene, tests, n, ref, &cam, shots[v].w, shots[v].h);
         CHECK_MSG(bad == 0,
-                  "%s %ux%u: %zu rays disagree (structure i is d_min number i / 4 and traversal "
-                  "htr, btr, sltr, seq by i %% 4)",
-                  shots[v].view, shots[v].w, shots[v].h, bad);
+                  "%s %ux%u: %zu rays disagree (structure i is d_min number i / %zu, isa number "
+                  "(i / 4) %% %zu of this CPU's, traversal htr, btr, sltr, seq by i %% 4)",
+                  shots[v].view, shots[v].w, shots[v].h, bad, 4 * n_isas, n_isas);
     }
-    for (size_t d = 0; d < n_dmins && d < MAX_DMINS; d++) tt_accel_destroy(trees[d]);
+    for (size_t d = 0; d < n_dmins && d < MAX_DMINS; d++) {
+        for (size_t i = 0; i < n_isas; i++) kd_isa_view_free(per_isa[d][i]);
+        tt_accel_destroy(trees[d]);
+    }
     tt_accel_destroy(ref);
     tt_scene_destroy(scene);
 }
