@@ -10,13 +10,15 @@ from treetrace import _util
 from conftest import brute_force, random_rays, scene_path
 
 VARIANTS = [("bruteforce", None), ("rtree", "stackless"), ("rtree", "ordered"),
-            ("rtree", "stack"), ("kdtree", "htr"), ("kdtree", "btr"), ("kdtree", "sltr"),
-            ("kdtree", "seq")]
+            ("rtree", "stack"), ("rtree", "sah-compact"), ("kdtree", "htr"), ("kdtree", "btr"),
+            ("kdtree", "sltr"), ("kdtree", "seq")]
 if "embree" in tt.accel_names():
     VARIANTS.append(("embree", None))
 
 
 def build(scene, accel, traversal):
+    if traversal == "sah-compact":  # the bulk-loaded compact R-tree
+        return tt.Accel(scene, accel, build="sah", layout="compact")
     return tt.Accel(scene, accel, traversal=traversal)
 
 

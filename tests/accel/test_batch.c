@@ -1,7 +1,8 @@
 /* The batch calls (tt_intersect, tt_occluded and their strided forms) give,
  * ray by ray, exactly what the single-ray calls give: the same hit bit for
  * bit (t, u, v, triangle) and the same occlusion, for every structure of
- * the build and every traversal, at 1 and 2 threads and any chunk size, in
+ * the build and every traversal, R-tree builders and layouts, the scalar
+ * and the best ISA path, at 1 and 2 threads and any chunk size, in
  * every layout (AoS, SoA with separate x/y/z arrays, broadcast origins,
  * strided outputs). Bad rays get their status and a miss while the rest of
  * the batch is traced; the message names the first bad index. Statistics
@@ -342,27 +343,42 @@ int main(void)
         struct {
             const char *accel;
             int traversal; /* -1: default */
+            tt_rtree_build build;
+            tt_rtree_layout layout;
+            tt_isa isa;
         } variants[] = {
-            {"bruteforce", -1},           {"rtree", TT_RTREE_STACKLESS},
-            {"rtree", TT_RTREE_ORDERED},  {"rtree", TT_RTREE_STACK},
-            {"kdtree", TT_KD_HTR},        {"kdtree", TT_KD_BTR},
-            {"kdtree", TT_KD_SLTR},       {"kdtree", TT_KD_SEQ},
-            {"embree", -1},
+            {"bruteforce", -1, 0, 0, TT_ISA_AUTO},
+            {"rtree", TT_RTREE_STACKLESS, 0, 0, TT_ISA_AUTO},
+            {"rtree", TT_RTREE_ORDERED, 0, 0, TT_ISA_AUTO},
+            {"rtree", TT_RTREE_STACK, 0, 0, TT_ISA_AUTO},
+            {"rtree", -1, TT_RTREE_BUILD_SAH, TT_RTREE_LAYOUT_COMPACT, TT_ISA_AUTO},
+            {"rtree", -1, TT_RTREE_BUILD_SAH, TT_RTREE_LAYOUT_COMPACT, TT_ISA_SCALAR},
+            {"rtree", -1, TT_RTREE_BUILD_STR, TT_RTREE_LAYOUT_COMPACT, TT_ISA_AUTO},
+            {"kdtree", TT_KD_HTR, 0, 0, TT_ISA_AUTO},
+            {"kdtree", TT_KD_HTR, 0, 0, TT_ISA_SCALAR},
+            {"kdtree", TT_KD_BTR, 0, 0, TT_ISA_AUTO},
+            {"kdtree", TT_KD_SLTR, 0, 0, TT_ISA_AUTO},
+            {"kdtree", TT_KD_SEQ, 0, 0, TT_ISA_AUTO},
+            {"embree", -1, 0, 0, TT_ISA_AUTO},
         };
         for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++) {
             if (!tt_test_has_accel(variants[v].accel)) continue;
             tt_build_options bo;
             tt_build_options_default(&bo);
             bo.accel = variants[v].accel;
+            bo.isa = variants[v].isa;
+            bo.rtree.build = variants[v].build;
+            bo.rtree.layout = variants[v].layout;
             if (variants[v].traversal >= 0) {
                 bo.rtree.traversal = (tt_rtree_traversal)variants[v].traversal;
                 bo.kdtree.traversal = (tt_kd_traversal)variants[v].traversal;
             }
             tt_accel *accel;
             REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &accel));
-            char what[96];
-            snprintf(what, sizeof what, "%s traversal %d, %d thread(s)", variants[v].accel,
-                     variants[v].traversal, threads);
+            char what[160];
+            snprintf(what, sizeof what, "%s traversal %d build %d layout %d isa %s, %d thread(s)",
+                     variants[v].accel, variants[v].traversal, (int)variants[v].build,
+                     (int)variants[v].layout, tt_isa_name(tt_accel_isa(accel)), threads);
             check_accel(ctx, accel, rays, n, bad, n_bad, what);
             check_camera_batch(ctx, scene, accel, &cam, what);
             if (v == 1) check_arguments(ctx, accel, rays);
