@@ -110,8 +110,9 @@ typedef struct kd_item {
 /* The binned SAH split of a node (kd_build_binned.c): candidates at bin
  * boundaries only, counts exact for the plane chosen. */
 kd_split kd_binned_split(const kd_builder *b, const kd_item *items, uint32_t n, const tt_aabb *cell);
-/* Nodes of at least this many triangles take the binned split. */
-#define KD_BINNED_MIN 1024u
+/* Nodes of at least this many triangles take the binned split (tests
+ * lower it to bin small scenes too). */
+extern uint32_t kd_binned_min;
 
 /* Sets the context's error message; safe from concurrent tasks. */
 tt_status kd_fail(kd_builder *b, tt_status st, const char *fmt, ...);

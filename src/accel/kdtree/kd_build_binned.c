@@ -4,13 +4,15 @@
  * ends, and the SAH is evaluated at the BINS - 1 inner bin boundaries only.
  * O(n) per node instead of a sort; the tree is close to the exact one at
  * the big nodes near the root, where a few candidates more or less change
- * little, and the builder switches to the exact sweep below KD_BINNED_MIN
+ * little, and the builder switches to the exact sweep below kd_binned_min
  * triangles, where the leaves are decided. */
 #include "accel/kdtree/kd_build.h"
 
 #include <math.h>
 
 #define BINS 64
+
+uint32_t kd_binned_min = 32;
 
 /* The SAH cost of the split at pos with nl and nr triangles (kd_sweep's). */
 static double split_cost(const kd_builder *b, const tt_aabb *cell, int axis, double pos, uint32_t nl,
@@ -27,38 +29,48 @@ static double split_cost(const kd_builder *b, const tt_aabb *cell, int axis, dou
     return c;
 }
 
-static int bin_of(float x, double lo, double scale)
-{
-    const double f = ((double)x - lo) * scale;
-    const int i = f > 0.0 ? (int)f : 0;
-    return i < BINS ? i : BINS - 1;
-}
-
 kd_split kd_binned_split(const kd_builder *b, const kd_item *items, uint32_t n, const tt_aabb *cell)
 {
     kd_split best = {-1, 0.0f, 0, INFINITY, 0, 0};
     double ext[3];
     for (int k = 0; k < 3; k++) ext[k] = (double)cell->hi[k] - (double)cell->lo[k];
     if (!(ext[0] * ext[1] + ext[1] * ext[2] + ext[2] * ext[0] > 0.0)) return best;
+    /* In which bin each triangle's part starts and ends, all axes in one
+     * pass. The bin index is an estimate in float (the counts of the plane
+     * chosen are taken exactly below); clamped, so that bounds on the
+     * cell's faces land in the first and last bin. */
+    uint32_t start[3][BINS] = {{0}}, end[3][BINS] = {{0}};
+    float lo[3], scale[3];
+    for (int k = 0; k < 3; k++) {
+        lo[k] = cell->lo[k];
+        scale[k] = ext[k] > 0.0 ? (float)(BINS / ext[k]) : 0.0f;
+    }
+    for (uint32_t i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++) {
+            float f = (items[i].box.lo[k] - lo[k]) * scale[k];
+            float g = (items[i].box.hi[k] - lo[k]) * scale[k];
+            int s = f > 0.0f ? (int)f : 0, e = g > 0.0f ? (int)g : 0;
+            start[k][s < BINS ? s : BINS - 1]++;
+            end[k][e < BINS ? e : BINS - 1]++;
+        }
     for (int axis = 0; axis < 3; axis++) {
         if (!(ext[axis] > 0.0)) continue;
-        const double lo = cell->lo[axis], scale = BINS / ext[axis];
-        uint32_t start[BINS] = {0}, end[BINS] = {0};
-        for (uint32_t i = 0; i < n; i++) {
-            start[bin_of(items[i].box.lo[axis], lo, scale)]++;
-            end[bin_of(items[i].box.hi[axis], lo, scale)]++;
-        }
         /* The boundary j lies between bins j - 1 and j: a triangle starting
          * in a bin below it counts left, one ending in bin j or above
-         * counts right (the estimate; the counts of the plane chosen are
-         * taken exactly below). */
+         * counts right. */
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        const double area = ext[0] * ext[1] + ext[1] * ext[2] + ext[2] * ext[0];
+        const double cap = ext[u] * ext[v] / area, side = (ext[u] + ext[v]) / area;
         uint32_t nl = 0, nr = n;
         for (int j = 1; j < BINS; j++) {
-            nl += start[j - 1];
-            nr -= end[j - 1];
-            const float pos = (float)(lo + ext[axis] * j / BINS);
+            nl += start[axis][j - 1];
+            nr -= end[axis][j - 1];
+            const float pos = (float)(cell->lo[axis] + ext[axis] * j / BINS);
             if (!(pos > cell->lo[axis] && pos < cell->hi[axis])) continue;
-            const double c = split_cost(b, cell, axis, pos, nl, nr);
+            const double pl = cap + ((double)pos - cell->lo[axis]) * side;
+            const double pr = cap + ((double)cell->hi[axis] - pos) * side;
+            double c = b->ct + b->ci * (pl * nl + pr * nr);
+            if (nl == 0 || nr == 0) c *= b->empty_factor;
             if (c < best.cost) {
                 best.cost = c;
                 best.axis = axis;

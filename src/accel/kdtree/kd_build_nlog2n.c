@@ -42,7 +42,7 @@ static void sweep_axis(const kd_builder *b, n2_state *s, const item *items, uint
 static kd_split find_split(const kd_builder *b, n2_state *s, const item *items, uint32_t n,
                            const tt_aabb *cell)
 {
-    if (b->binned && n >= KD_BINNED_MIN) return kd_binned_split(b, items, n, cell);
+    if (b->binned && n >= kd_binned_min) return kd_binned_split(b, items, n, cell);
     kd_split best = {-1, 0.0f, 0, INFINITY, 0, 0};
     for (int axis = 0; axis < 3; axis++) sweep_axis(b, s, items, n, cell, axis, &best);
     return best;
@@ -50,7 +50,7 @@ static kd_split find_split(const kd_builder *b, n2_state *s, const item *items, 
 
 /* Divides a node's items between its children (clipping the straddlers
  * again to each child's cell). Consumes items. */
-static tt_status split_items(kd_builder *b, item *items, uint32_t n, const kd_split *split,
+static tt_status split_items(kd_builder *b, item *items, uint32_t n, const kd_split *split, int loose,
                              const tt_aabb *lcell, const tt_aabb *rcell, item **left, uint32_t *n_left,
                              item **right, uint32_t *n_right)
 {
@@ -73,7 +73,16 @@ static tt_status split_items(kd_builder *b, item *items, uint32_t n, const kd_sp
         int side = kd_classify(items[i].box.lo[split->axis], items[i].box.hi[split->axis], split);
         if (side == KD_SIDE_LEFT) l[nl++] = items[i];
         else if (side == KD_SIDE_RIGHT) r[nr++] = items[i];
-        else {
+        else if (loose) {
+            /* The binned builder's big nodes: the straddler's bounds cut
+             * at the plane, no clipping (see tighten). */
+            item it = items[i];
+            it.box.hi[split->axis] = split->pos;
+            l[nl++] = it;
+            it.box = items[i].box;
+            it.box.lo[split->axis] = split->pos;
+            r[nr++] = it;
+        } else {
             const float *t = b->tri + 9 * (size_t)items[i].tri;
             item it = {items[i].tri, {{0, 0, 0}, {0, 0, 0}}};
             /* A straddler whose clipped part turns out empty on one side
@@ -91,17 +100,45 @@ static tt_status split_items(kd_builder *b, item *items, uint32_t n, const kd_sp
     return TT_OK;
 }
 
-/* Consumes (frees) items. */
+/* Whether a node's split is binned: then its straddlers' bounds are only
+ * cut at the plane, a superset of their clipped part (loose). */
+static int binned_node(const kd_builder *b, uint32_t n, int depth)
+{
+    return b->binned && n >= kd_binned_min && depth < b->max_depth;
+}
+
+/* Clipping each straddler at each binned node took most of the binned
+ * build's time. Its bounds are cut at the planes instead, and clipped to
+ * the cell once where the exact sweep takes over (or a leaf is made):
+ * the exact candidates, and leaves holding only triangles that touch
+ * them. Returns the number of triangles that do. */
+static uint32_t tighten(const kd_builder *b, item *items, uint32_t n, const tt_aabb *cell)
+{
+    uint32_t m = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        item it = items[i];
+        if (kd_clip_triangle(b->tri + 9 * (size_t)it.tri, cell, &it.box)) items[m++] = it;
+    }
+    return m;
+}
+
+/* Consumes (frees) items. loose: their bounds may exceed their clipped
+ * part (children of a binned node). */
 static tt_status build(kd_builder *b, n2_state *s, item *items, uint32_t n, const tt_aabb *cell,
-                       const kd_place *here)
+                       const kd_place *here, int loose)
 {
     if (kd_par_aborted(b)) {
         tt_free(b->ctx, items);
         return KD_ABORTED;
     }
+    if (loose && !binned_node(b, n, here->depth)) {
+        n = tighten(b, items, n, cell);
+        loose = 0;
+    }
     kd_split split = {-1, 0.0f, 0, INFINITY, 0, 0};
     if (n > 0 && here->depth < b->max_depth) split = find_split(b, s, items, n, cell);
     if (!kd_should_split(b, n, here->depth, &split)) {
+        if (loose) n = tighten(b, items, n, cell);
         for (uint32_t i = 0; i < n; i++) s->ids[i] = items[i].tri;
         tt_free(b->ctx, items);
         return kd_emit_leaf(b, s->ids, n);
@@ -110,7 +147,8 @@ static tt_status build(kd_builder *b, n2_state *s, item *items, uint32_t n, cons
     kd_split_cell(cell, &split, &lcell, &rcell);
     item *left, *right;
     uint32_t nl, nr;
-    tt_status st = split_items(b, items, n, &split, &lcell, &rcell, &left, &nl, &right, &nr);
+    const int cut = binned_node(b, n, here->depth);
+    tt_status st = split_items(b, items, n, &split, cut, &lcell, &rcell, &left, &nl, &right, &nr);
     if (st != TT_OK) return st;
     uint32_t node;
     kd_place child;
@@ -120,13 +158,13 @@ static tt_status build(kd_builder *b, n2_state *s, item *items, uint32_t n, cons
         tt_free(b->ctx, right);
         return st;
     }
-    st = build(b, s, left, nl, &lcell, &child);
+    st = build(b, s, left, nl, &lcell, &child, cut);
     if (st != TT_OK) {
         tt_free(b->ctx, right);
         return st;
     }
     kd_link_right(b, node);
-    return build(b, s, right, nr, &rcell, &child);
+    return build(b, s, right, nr, &rcell, &child, cut);
 }
 
 /* The scratch of a build (or of one thread of it): 0 when out of memory. */
@@ -178,13 +216,14 @@ static n2_state *my_state(n2_par *p)
 
 /* A node built by tasks into sub (see kd_build_par.h). Consumes items. */
 static tt_status par_build(n2_par *p, kd_sub *sub, item *items, uint32_t n, const tt_aabb *cell,
-                           kd_place here)
+                           kd_place here, int loose)
 {
     kd_builder *b = &sub->out;
     kd_split split = {-1, 0.0f, 0, INFINITY, 0, 0};
     int oom = 0;
-    if (n >= kd_par_cutoff && here.depth < b->max_depth && !kd_par_aborted(b)) {
-        if (b->binned && n >= KD_BINNED_MIN) {
+    const int cut = binned_node(b, n, here.depth);
+    if (n >= kd_par_cutoff && here.depth < b->max_depth && !(loose && !cut) && !kd_par_aborted(b)) {
+        if (cut) {
             split = kd_binned_split(b, items, n, cell);
         } else {
             /* The three axes at once, each with its thread's scratch; the
@@ -213,13 +252,17 @@ static tt_status par_build(n2_par *p, kd_sub *sub, item *items, uint32_t n, cons
         tt_free(b->ctx, items);
         return kd_oom(b);
     }
-    if (split.axis < 0 || !kd_should_split(b, n, here.depth, &split))
-        return build(b, s, items, n, cell, &here);
+    /* Not split here (small, or no split pays): the serial recursion
+     * decides again, the same way. A loose node of the binned builder
+     * below its threshold is only tightened there, so it is never split
+     * here (its sweep needs exact bounds). */
+    if (split.axis < 0 || (loose && !cut) || !kd_should_split(b, n, here.depth, &split))
+        return build(b, s, items, n, cell, &here, loose);
     tt_aabb lcell, rcell;
     kd_split_cell(cell, &split, &lcell, &rcell);
     item *left, *right;
     uint32_t nl, nr;
-    tt_status st = split_items(b, items, n, &split, &lcell, &rcell, &left, &nl, &right, &nr);
+    tt_status st = split_items(b, items, n, &split, cut, &lcell, &rcell, &left, &nl, &right, &nr);
     if (st != TT_OK) return st;
     sub->kid[0] = kd_sub_new(b);
     sub->kid[1] = kd_sub_new(b);
@@ -232,9 +275,9 @@ static tt_status par_build(n2_par *p, kd_sub *sub, item *items, uint32_t n, cons
     const kd_place child = kd_child_place(b, &here);
     kd_sub *l = sub->kid[0], *r = sub->kid[1];
 #pragma omp task firstprivate(l, left, nl, lcell)
-    l->st = par_build(p, l, left, nl, &lcell, child);
+    l->st = par_build(p, l, left, nl, &lcell, child, cut);
 #pragma omp task firstprivate(r, right, nr, rcell)
-    r->st = par_build(p, r, right, nr, &rcell, child);
+    r->st = par_build(p, r, right, nr, &rcell, child, cut);
 #pragma omp taskwait
     return l->st != TT_OK ? l->st : r->st;
 }
@@ -258,7 +301,7 @@ static tt_status build_parallel(kd_builder *b, const tt_aabb *root, int threads)
 #pragma omp single
         {
             kd_place here = {0, 0, TT_KD_NO_PARENT};
-            st = par_build(&p, top, items, (uint32_t)par.m, root, here);
+            st = par_build(&p, top, items, (uint32_t)par.m, root, here, 0);
         }
         if (par.abort) st = KD_ABORTED;
         if (st == TT_OK) st = kd_replay(b, top, root);
@@ -288,7 +331,7 @@ tt_status kd_build_nlog2n(kd_builder *b, const tt_aabb *root)
         kd_place here = {0, 0, TT_KD_NO_PARENT};
         const uint32_t m = root_items(b, root, items);
         b->live = m;
-        st = build(b, &s, items, m, root, &here);
+        st = build(b, &s, items, m, root, &here, 0);
     }
     state_free(&s);
     return st;
