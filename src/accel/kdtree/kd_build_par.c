@@ -75,8 +75,11 @@ static tt_status replay_nodes(kd_builder *b, kd_builder *sub, uint32_t i, const 
                               const kd_place *here)
 {
     const tt_kd_node x = sub->nodes[i];
-    if (tt_kd_is_leaf(x.bits))
-        return kd_emit_leaf(b, sub->refs + x.u.first, tt_kd_leaf_count(x.bits));
+    if (tt_kd_is_leaf(x.bits)) {
+        const uint32_t n = tt_kd_leaf_count(x.bits);
+        /* A subtree of empty leaves has no reference array. */
+        return kd_emit_leaf(b, n ? sub->refs + x.u.first : NULL, n);
+    }
     kd_split s = {tt_kd_axis(x.bits), x.u.split, 0, 0.0, 0, 0};
     uint32_t me;
     kd_place child;
