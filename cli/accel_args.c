@@ -10,7 +10,7 @@ static const char *const strategies[] = {"min-volume", "min-surface", "min-overl
 static const char *const splits[] = {"rstar", "quadratic"};
 static const char *const rtree_builds[] = {"insert", "str", "hilbert", "sah"};
 static const char *const rtree_traversals[] = {"auto", "stackless", "ordered", "stack"};
-static const char *const kd_builders[] = {"nlogn", "nlog2n"};
+static const char *const kd_builders[] = {"nlogn", "nlog2n", "binned"};
 static const char *const kd_traversals[] = {"htr", "btr", "sltr", "seq"};
 static const char *const on_off[] = {"off", "on"};
 static const char *const reinsert_modes[] = {"close", "far"};
@@ -266,7 +266,9 @@ void cli_accel_args_help(FILE *out)
             "  --reinsert-mode far|close  reinsert the farthest or closest first (default far)\n"
             "  --split rstar|quadratic  node split algorithm (default rstar)\n"
             "kd-tree (--accel kdtree):\n"
-            "  --kd-build nlogn|nlog2n  SAH builder (default nlogn)\n"
+            "  --kd-build nlogn|nlog2n|binned  SAH builder: exact (O(N log N) or O(N log^2 N),\n"
+            "                           the same tree) or binned (approximate, faster); all\n"
+            "                           build in parallel with the threads (default nlogn)\n"
             "  --dmin N|none            sparse boxes every N levels, or none (default 4)\n"
             "  --ct F, --ci F           SAH traversal and intersection costs (default 1, 1.5)\n"
             "  --empty-bonus F          SAH bonus for cutting off empty space, in [0, 1):\n"

@@ -13,6 +13,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "accel/kdtree/kd_build_par.h"
 #include "check.h"
 
 /* ------------------------------------------------------------ allocator */
@@ -267,6 +268,7 @@ static void create_undo(void *p)
 typedef struct build_arg {
     const tt_scene *scene;
     tt_build_options opt;
+    uint32_t kd_cutoff; /* the kd-tree's task cutoff, 0: the default */
     tt_accel *accel;
 } build_arg;
 
@@ -274,7 +276,10 @@ static tt_status build_run(void *p)
 {
     build_arg *a = p;
     a->accel = (tt_accel *)p;
+    const uint32_t saved = kd_par_cutoff;
+    if (a->kd_cutoff) kd_par_cutoff = a->kd_cutoff;
     tt_status st = tt_accel_build(ctx, a->scene, &a->opt, &a->accel);
+    kd_par_cutoff = saved;
     if (st != TT_OK) CHECK_MSG(a->accel == NULL, "a failed build returned a structure");
     return st;
 }
@@ -319,7 +324,7 @@ static void render_undo(void *p)
  * (the R-tree's strategies, reinsertion, split, node sizes and bulk loaders; the
  * kd-tree's builders and sparse boxes) and each traversal once (some keep
  * per-traversal data). Other structures: their defaults. */
-static size_t variants(const char *name, tt_build_options *v, const char **label)
+static size_t variants(const char *name, tt_build_options *v, const char **label, uint32_t *cutoff)
 {
     size_t n = 0;
     tt_build_options o;
@@ -356,6 +361,12 @@ static size_t variants(const char *name, tt_build_options *v, const char **label
         v[n] = o, v[n].kdtree.builder = TT_KD_NLOG2N, v[n].kdtree.dmin = 3;
         v[n].kdtree.traversal = TT_KD_SLTR, v[n].kdtree.shadow_caster_hint = 1;
         label[n++] = "nlog2n sltr dmin=3 caster hint";
+        v[n] = o, v[n].kdtree.builder = TT_KD_BINNED, label[n++] = "binned";
+        /* The parallel builders (the context has 2 threads): every node of
+         * 16 triangles or more split by tasks, failures inside them. */
+        v[n] = o, cutoff[n] = 16, label[n++] = "nlogn parallel";
+        v[n] = o, v[n].kdtree.builder = TT_KD_NLOG2N, cutoff[n] = 16, label[n++] = "nlog2n parallel";
+        v[n] = o, v[n].kdtree.builder = TT_KD_BINNED, cutoff[n] = 16, label[n++] = "binned parallel";
     } else {
         v[n] = o, label[n++] = "defaults";
     }
@@ -406,16 +417,17 @@ int main(void)
     for (const char *const *name = tt_accel_names(); *name; name++) {
         tt_build_options v[16];
         const char *label[16];
-        size_t nv = variants(*name, v, label);
+        uint32_t cutoff[16] = {0};
+        size_t nv = variants(*name, v, label, cutoff);
         for (size_t i = 0; i < nv; i++) {
-            build_arg ba = {scene, v[i], NULL};
+            build_arg ba = {scene, v[i], cutoff[i], NULL};
             char what[128];
             snprintf(what, sizeof what, "build %s (%s)", *name, label[i]);
             step s = {what, build_run, build_undo, &ba};
             printf("%-40s %4ld allocations\n", what, exercise(&s));
         }
         /* render with the structure's defaults */
-        build_arg ba = {scene, v[0], NULL};
+        build_arg ba = {scene, v[0], 0, NULL};
         tt_build_options_default(&ba.opt);
         ba.opt.accel = *name;
         REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &ba.opt, &ba.accel));

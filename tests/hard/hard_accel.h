@@ -46,9 +46,9 @@ static inline void hard_push(hard_variant *v, size_t *n, const tt_build_options 
  * x forced reinsert on/off x every traversal at (m, M) = (2, 4), every
  * strategy at (4, 16), (3, 8), the quadratic split, close reinsert, and each
  * bulk loader with every traversal at (2, 4) and at (3, 8), (4, 16); for the
- * kd-tree both builders x every traversal x sparse boxes every 1 or 3 levels
- * or none, every traversal with each ISA's kernels, plus the shadow-caster
- * hint; any other structure with its
+ * kd-tree all three builders x every traversal x sparse boxes every 1 or 3
+ * levels or none, every traversal with each ISA's kernels, plus the
+ * shadow-caster hint; any other structure with its
  * defaults. */
 static inline size_t hard_variants(const char *name, hard_variant *v)
 {
@@ -110,7 +110,8 @@ static inline size_t hard_variants(const char *name, hard_variant *v)
                 }
     } else if (strcmp(name, "kdtree") == 0) {
         static const int dmins[3] = {1, 3, -1};
-        for (int b = TT_KD_NLOGN; b <= TT_KD_NLOG2N; b++)
+        static const char *const builders[3] = {"nlogn", "nlog2n", "binned"};
+        for (int b = TT_KD_NLOGN; b <= TT_KD_BINNED; b++)
             for (int t = TT_KD_HTR; t <= TT_KD_SEQ; t++)
                 for (int d = 0; d < 3; d++) {
                     tt_build_options k = o;
@@ -118,7 +119,7 @@ static inline size_t hard_variants(const char *name, hard_variant *v)
                     k.kdtree.traversal = (tt_kd_traversal)t;
                     k.kdtree.dmin = dmins[d];
                     snprintf(label, sizeof label, "kdtree %s traversal=%s dmin=%d",
-                             b == TT_KD_NLOGN ? "nlogn" : "nlog2n", hard_kd_traversal_names[t],
+                             builders[b], hard_kd_traversal_names[t],
                              dmins[d]);
                     hard_push(v, &n, &k, label);
                 }

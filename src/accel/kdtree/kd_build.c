@@ -2,12 +2,27 @@
 #include "accel/kdtree/kd_build.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdlib.h>
+
+#include "accel/kdtree/kd_build_par.h"
+
+tt_status kd_fail(kd_builder *b, tt_status st, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    /* Tasks of a parallel build may fail at once; the context holds one
+     * message. */
+#pragma omp critical(tt_kd_error)
+    tt_verror(b->ctx, st, fmt, ap);
+    va_end(ap);
+    return st;
+}
 
 tt_status kd_oom(kd_builder *b)
 {
-    return tt_error(b->ctx, TT_ERR_OUT_OF_MEMORY, "kdtree: out of memory while building (%u nodes)",
-                    b->node_count);
+    return kd_fail(b, TT_ERR_OUT_OF_MEMORY, "kdtree: out of memory while building (%u nodes)",
+                   b->node_count);
 }
 
 /* Half the surface area of a box with these extents. */
@@ -88,6 +103,7 @@ int kd_should_split(kd_builder *b, uint32_t n, int depth, const kd_split *best)
 {
     if (!(n > 0 && depth < b->max_depth && best->axis >= 0 && best->cost < b->ci * (double)n))
         return 0;
+    if (b->par) return kd_par_account(b, n, best);
     if (b->live - n + best->n_left + best->n_right > b->ref_budget) {
         b->budget_hit = 1;
         return 0;
@@ -112,7 +128,7 @@ static tt_status grow_nodes(kd_builder *b, uint32_t extra)
 {
     if (b->node_count + extra <= b->node_cap) return TT_OK;
     if (b->node_count + extra >= TT_KD_MAX_NODES)
-        return tt_error(b->ctx, TT_ERR_INVALID_ARGUMENT,
+        return kd_fail(b, TT_ERR_INVALID_ARGUMENT,
                         "kdtree: the tree needs more than 2^29 nodes; raise cost_traversal or "
                         "lower max_depth");
     uint32_t cap = b->node_cap ? b->node_cap : 1024;
@@ -144,7 +160,7 @@ tt_status kd_emit_leaf(kd_builder *b, uint32_t *ids, uint32_t n)
         b->ref_cap = cap;
     }
     if (b->ref_count + n > UINT32_MAX)
-        return tt_error(b->ctx, TT_ERR_OUT_OF_MEMORY, "kdtree: more than 2^32 triangle references");
+        return kd_fail(b, TT_ERR_OUT_OF_MEMORY, "kdtree: more than 2^32 triangle references");
     /* Most leaves hold a handful of triangles: insertion sort, not qsort's
      * call per comparison. */
     if (n > 32) qsort(ids, n, sizeof *ids, cmp_u32);

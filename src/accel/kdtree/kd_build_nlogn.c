@@ -4,7 +4,12 @@
  * their events (still sorted, as a subsequence); the few that straddle the
  * plane are clipped again to each child cell, their new events sorted (a
  * short list) and merged in. */
+#include <math.h>
+#include <omp.h>
+#include <string.h>
+
 #include "accel/kdtree/kd_build.h"
+#include "accel/kdtree/kd_build_par.h"
 #include "accel/kdtree/kd_clip.h"
 
 /* Most nodes are small and were each paying for several malloc/free
@@ -18,7 +23,9 @@
 #define POOL_EVENTS 8192u
 
 typedef struct nl_state {
-    kd_builder *b;
+    tt_context *ctx;
+    const float *tri;
+    int max_depth;
     uint8_t *side;   /* per triangle: KD_SIDE_* of the split being applied */
     uint32_t *ids;   /* straddlers of a split, or a leaf's triangles        */
     uint64_t **pool; /* [depth][left, right]: buffers of POOL_EVENTS, made
@@ -34,16 +41,17 @@ typedef struct nl_lists {
     int owned; /* allocated for this node alone (else a pool buffer) */
 } nl_lists;
 
-/* A block of n events for a child at this depth (which: 0 left, 1 right). */
-static int get_block(nl_state *s, int depth, int which, size_t n, nl_lists *l)
+/* A block of n events for a child at this depth (which: 0 left, 1 right);
+ * its own allocation if `own` (a block handed to another task). */
+static int get_block(nl_state *s, int depth, int which, size_t n, int own, nl_lists *l)
 {
-    if (n > POOL_EVENTS) {
-        l->block = tt_alloc_array(s->b->ctx, n, sizeof *l->block);
+    if (n > POOL_EVENTS || own) {
+        l->block = tt_alloc_array(s->ctx, n, sizeof *l->block);
         l->owned = 1;
         return l->block != NULL;
     }
     uint64_t **slot = &s->pool[2 * depth + which];
-    if (!*slot) *slot = tt_alloc_array(s->b->ctx, POOL_EVENTS, sizeof **slot);
+    if (!*slot) *slot = tt_alloc_array(s->ctx, POOL_EVENTS, sizeof **slot);
     l->block = *slot;
     l->owned = 0;
     return l->block != NULL;
@@ -51,7 +59,7 @@ static int get_block(nl_state *s, int depth, int which, size_t n, nl_lists *l)
 
 static void put_block(nl_state *s, nl_lists *l)
 {
-    if (l->owned) tt_free(s->b->ctx, l->block);
+    if (l->owned) tt_free(s->ctx, l->block);
     l->block = NULL;
 }
 
@@ -111,7 +119,7 @@ static uint32_t reclip(nl_state *s, uint32_t nb, const tt_aabb *cell, uint64_t *
     len[0] = len[1] = len[2] = 0;
     for (uint32_t i = 0; i < nb; i++) {
         tt_aabb box;
-        if (!kd_clip_triangle(s->b->tri + 9 * (size_t)s->ids[i], cell, &box)) continue;
+        if (!kd_clip_triangle(s->tri + 9 * (size_t)s->ids[i], cell, &box)) continue;
         kept++;
         for (int k = 0; k < 3; k++)
             len[k] += kd_events_of(out + 2 * (size_t)nb * k + len[k], box.lo[k], box.hi[k], s->ids[i]);
@@ -127,7 +135,7 @@ static uint32_t reclip(nl_state *s, uint32_t nb, const tt_aabb *cell, uint64_t *
  * of one-sided triangles (their order kept) merged with the re-clipped
  * straddlers' events. Each child's run for an axis is sized for the worst
  * case, two events per triangle, so the split needs no counting pass. */
-static int child_lists(nl_state *s, const nl_lists *parent, int depth, uint32_t n_left,
+static int child_lists(nl_state *s, const nl_lists *parent, int depth, int own, uint32_t n_left,
                        uint32_t n_right, const uint64_t *lclip, const size_t llen[3],
                        const uint64_t *rclip, const size_t rlen[3], uint32_t nb, nl_lists *left,
                        nl_lists *right)
@@ -135,7 +143,8 @@ static int child_lists(nl_state *s, const nl_lists *parent, int depth, uint32_t 
     const size_t lcap = 2 * (size_t)n_left, rcap = 2 * (size_t)n_right;
     /* One slot more than the runs need: the filter below writes every
      * event to both children and advances only the side it belongs to. */
-    if (!get_block(s, depth, 0, 3 * lcap + 1, left) || !get_block(s, depth, 1, 3 * rcap + 1, right))
+    if (!get_block(s, depth, 0, 3 * lcap + 1, own, left) ||
+        !get_block(s, depth, 1, 3 * rcap + 1, own, right))
         return 0;
     uint64_t *ldst = left->block, *rdst = right->block;
     for (int k = 0; k < 3; k++) {
@@ -173,36 +182,36 @@ static int clip_room(nl_state *s, uint32_t nb)
     if (s->clip && need <= s->clip_cap) return 1;
     size_t cap = s->clip_cap ? s->clip_cap : 1024;
     while (cap < need) cap *= 2;
-    uint64_t *p = tt_realloc_array(s->b->ctx, s->clip, cap, sizeof *p);
+    uint64_t *p = tt_realloc_array(s->ctx, s->clip, cap, sizeof *p);
     if (!p) return 0;
     s->clip = p;
     s->clip_cap = cap;
     return 1;
 }
 
-/* Consumes (releases) lists->block. */
-static tt_status build(nl_state *s, nl_lists *lists, uint32_t n, const tt_aabb *cell,
-                       const kd_place *here)
+/* The leaf of a node's triangles (each has one START or PLANAR event). */
+static tt_status emit_leaf(kd_builder *b, nl_state *s, nl_lists *lists)
 {
-    kd_builder *b = s->b;
-    kd_split split = {-1, 0.0f, 0, INFINITY, 0, 0};
-    if (n > 0 && here->depth < b->max_depth)
-        for (int k = 0; k < 3; k++) kd_sweep(b, axis_list(lists, k), lists->n[k], n, cell, k, &split);
-    if (!kd_should_split(b, n, here->depth, &split)) {
-        uint32_t m = 0;
-        const uint64_t *ev = axis_list(lists, 0);
-        for (size_t i = 0; i < lists->n[0]; i++)
-            if (kd_event_type(ev[i]) != KD_END) s->ids[m++] = kd_event_tri(ev[i]);
-        put_block(s, lists);
-        return kd_emit_leaf(b, s->ids, m);
-    }
-    const uint64_t *ev = axis_list(lists, split.axis);
-    const size_t n_ev = lists->n[split.axis];
+    uint32_t m = 0;
+    const uint64_t *ev = axis_list(lists, 0);
+    for (size_t i = 0; i < lists->n[0]; i++)
+        if (kd_event_type(ev[i]) != KD_END) s->ids[m++] = kd_event_tri(ev[i]);
+    put_block(s, lists);
+    return kd_emit_leaf(b, s->ids, m);
+}
+
+/* Applies a split: the children's cells, triangle counts and event lists
+ * (their own allocations if own). Consumes lists->block. */
+static tt_status split_node(kd_builder *b, nl_state *s, nl_lists *lists, uint32_t n,
+                            const tt_aabb *cell, const kd_split *split, int depth, int own,
+                            tt_aabb *lcell, tt_aabb *rcell, uint32_t *n_left, uint32_t *n_right,
+                            nl_lists *left, nl_lists *right)
+{
+    const uint64_t *ev = axis_list(lists, split->axis);
+    const size_t n_ev = lists->n[split->axis];
     uint32_t nl, nr;
-    const uint32_t nb = classify(s, ev, n_ev, &split, &nl, &nr);
-    tt_aabb lcell, rcell;
-    kd_split_cell(cell, &split, &lcell, &rcell);
-    nl_lists left = {NULL, {0, 0, 0}, 0}, right = {NULL, {0, 0, 0}, 0};
+    const uint32_t nb = classify(s, ev, n_ev, split, &nl, &nr);
+    kd_split_cell(cell, split, lcell, rcell);
     tt_status st = TT_OK;
     if (!clip_room(s, nb)) {
         st = kd_oom(b);
@@ -210,14 +219,35 @@ static tt_status build(nl_state *s, nl_lists *lists, uint32_t n, const tt_aabb *
         /* Straddlers' events: left runs, right runs, sort scratch. */
         uint64_t *lclip = s->clip, *rclip = s->clip + 6 * (size_t)nb, *tmp = s->clip + 12 * (size_t)nb;
         size_t llen[3], rlen[3];
-        nl += reclip(s, nb, &lcell, lclip, tmp, llen);
-        nr += reclip(s, nb, &rcell, rclip, tmp, rlen);
+        nl += reclip(s, nb, lcell, lclip, tmp, llen);
+        nr += reclip(s, nb, rcell, rclip, tmp, rlen);
         kd_account_split(b, n, nl, nr);
-        if (!child_lists(s, lists, here->depth + 1, nl, nr, lclip, llen, rclip, rlen, nb, &left,
-                         &right))
+        if (!child_lists(s, lists, depth + 1, own, nl, nr, lclip, llen, rclip, rlen, nb, left, right))
             st = kd_oom(b);
     }
     put_block(s, lists);
+    *n_left = nl;
+    *n_right = nr;
+    return st;
+}
+
+/* Consumes (releases) lists->block. */
+static tt_status build(kd_builder *b, nl_state *s, nl_lists *lists, uint32_t n, const tt_aabb *cell,
+                       const kd_place *here)
+{
+    if (kd_par_aborted(b)) {
+        put_block(s, lists);
+        return KD_ABORTED;
+    }
+    kd_split split = {-1, 0.0f, 0, INFINITY, 0, 0};
+    if (n > 0 && here->depth < b->max_depth)
+        for (int k = 0; k < 3; k++) kd_sweep(b, axis_list(lists, k), lists->n[k], n, cell, k, &split);
+    if (!kd_should_split(b, n, here->depth, &split)) return emit_leaf(b, s, lists);
+    tt_aabb lcell, rcell;
+    uint32_t nl, nr;
+    nl_lists left = {NULL, {0, 0, 0}, 0}, right = {NULL, {0, 0, 0}, 0};
+    tt_status st = split_node(b, s, lists, n, cell, &split, here->depth, 0, &lcell, &rcell, &nl, &nr,
+                              &left, &right);
     uint32_t node = 0;
     kd_place child;
     if (st == TT_OK) st = kd_emit_interior(b, &split, cell, here, &node, &child);
@@ -226,58 +256,207 @@ static tt_status build(nl_state *s, nl_lists *lists, uint32_t n, const tt_aabb *
         put_block(s, &right);
         return st;
     }
-    st = build(s, &left, nl, &lcell, &child);
+    st = build(b, s, &left, nl, &lcell, &child);
     if (st != TT_OK) {
         put_block(s, &right);
         return st;
     }
     kd_link_right(b, node);
-    return build(s, &right, nr, &rcell, &child);
+    return build(b, s, &right, nr, &rcell, &child);
+}
+
+static void state_init(nl_state *s, const kd_builder *b)
+{
+    memset(s, 0, sizeof *s);
+    s->ctx = b->ctx;
+    s->tri = b->tri;
+    s->max_depth = b->max_depth;
+}
+
+/* The scratch of a build (or of one thread of it): 0 when out of memory. */
+static int state_alloc(nl_state *s, uint32_t n)
+{
+    s->side = tt_alloc_array(s->ctx, n, sizeof *s->side);
+    s->ids = tt_alloc_array(s->ctx, n, sizeof *s->ids);
+    s->pool = tt_calloc(s->ctx, 2 * ((size_t)s->max_depth + 1), sizeof *s->pool);
+    return s->side && s->ids && s->pool;
+}
+
+static void state_free(nl_state *s)
+{
+    tt_free(s->ctx, s->side);
+    tt_free(s->ctx, s->ids);
+    tt_free(s->ctx, s->clip);
+    if (s->pool)
+        for (size_t i = 0; i < 2 * ((size_t)s->max_depth + 1); i++) tt_free(s->ctx, s->pool[i]);
+    tt_free(s->ctx, s->pool);
+    memset(s, 0, sizeof *s);
+}
+
+/* The root's event lists: each axis' run sorted (by three tasks when
+ * `tasks`; tmp then holds 6 n keys, else 2 n). Returns the number of
+ * triangles that touch the root cell. */
+static uint32_t root_lists(const kd_builder *b, const tt_aabb *root, nl_lists *lists, uint64_t *tmp,
+                           int tasks)
+{
+    const uint32_t n = b->tri_count;
+    /* Axis runs of 2 n events each at first, compacted below. */
+    uint32_t m = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        tt_aabb box;
+        if (!kd_clip_triangle(b->tri + 9 * (size_t)i, root, &box)) continue;
+        m++;
+        for (int k = 0; k < 3; k++)
+            lists->n[k] += kd_events_of(lists->block + 2 * (size_t)n * k + lists->n[k], box.lo[k],
+                                        box.hi[k], i);
+    }
+    for (int k = 0; k < 3; k++) {
+        uint64_t *run = lists->block + 2 * (size_t)n * k, *t = tmp + (tasks ? 2 * (size_t)n * k : 0);
+        const size_t len = lists->n[k];
+#pragma omp task firstprivate(run, t, len) if (tasks)
+        kd_radix_sort_events(run, t, len);
+    }
+#pragma omp taskwait
+    size_t at = 0;
+    for (int k = 0; k < 3; k++) {
+        memmove(lists->block + at, lists->block + 2 * (size_t)n * k, lists->n[k] * sizeof(uint64_t));
+        at += lists->n[k];
+    }
+    return m;
+}
+
+/* ------------------------------------------------------------ parallel */
+
+typedef struct nl_par {
+    const kd_builder *proto;
+    nl_state *scratch; /* one per thread, allocated by its thread */
+} nl_par;
+
+static nl_state *my_state(nl_par *p)
+{
+    nl_state *s = &p->scratch[omp_get_thread_num()];
+    if (s->side) return s;
+    state_init(s, p->proto);
+    if (state_alloc(s, p->proto->tri_count)) return s;
+    state_free(s);
+    return NULL;
+}
+
+/* A node built by tasks into sub (see kd_build_par.h). Consumes lists. */
+static tt_status par_build(nl_par *p, kd_sub *sub, nl_lists *lists, uint32_t n, const tt_aabb *cell,
+                           kd_place here)
+{
+    kd_builder *b = &sub->out;
+    kd_split split = {-1, 0.0f, 0, INFINITY, 0, 0};
+    if (n >= kd_par_cutoff && here.depth < b->max_depth && !kd_par_aborted(b)) {
+        /* The three axes' sweeps at once; the lowest cost wins, the lower
+         * axis on a tie, as in the serial loop. */
+        kd_split ax[3];
+        for (int k = 0; k < 3; k++) {
+            ax[k] = split;
+#pragma omp task shared(ax) firstprivate(k)
+            kd_sweep(b, axis_list(lists, k), lists->n[k], n, cell, k, &ax[k]);
+        }
+#pragma omp taskwait
+        for (int k = 0; k < 3; k++)
+            if (ax[k].cost < split.cost) split = ax[k];
+    }
+    nl_state *s = my_state(p);
+    if (!s) {
+        tt_free(b->ctx, lists->block); /* a parallel node's lists are its own */
+        return kd_oom(b);
+    }
+    if (split.axis < 0 || !kd_should_split(b, n, here.depth, &split))
+        return build(b, s, lists, n, cell, &here);
+    tt_aabb lcell, rcell;
+    uint32_t nl, nr;
+    nl_lists left = {NULL, {0, 0, 0}, 1}, right = {NULL, {0, 0, 0}, 1};
+    tt_status st = split_node(b, s, lists, n, cell, &split, here.depth, 1, &lcell, &rcell, &nl, &nr,
+                              &left, &right);
+    if (st == TT_OK) {
+        sub->kid[0] = kd_sub_new(b);
+        sub->kid[1] = kd_sub_new(b);
+        if (!sub->kid[0] || !sub->kid[1]) st = kd_oom(b);
+    }
+    if (st != TT_OK) {
+        put_block(s, &left);
+        put_block(s, &right);
+        return st;
+    }
+    sub->split = split;
+    const kd_place child = kd_child_place(b, &here);
+    kd_sub *l = sub->kid[0], *r = sub->kid[1];
+#pragma omp task firstprivate(l, left, nl, lcell)
+    l->st = par_build(p, l, &left, nl, &lcell, child);
+#pragma omp task firstprivate(r, right, nr, rcell)
+    r->st = par_build(p, r, &right, nr, &rcell, child);
+#pragma omp taskwait
+    return l->st != TT_OK ? l->st : r->st;
+}
+
+/* The parallel build; KD_ABORTED when the budget bound was passed. */
+static tt_status build_parallel(kd_builder *b, const tt_aabb *root, int threads)
+{
+    const uint32_t n = b->tri_count;
+    kd_par par = {0, 0, 0};
+    nl_par p = {b, NULL};
+    nl_lists lists = {NULL, {0, 0, 0}, 1};
+    p.scratch = tt_calloc(b->ctx, (size_t)threads, sizeof *p.scratch);
+    lists.block = tt_alloc_array(b->ctx, 6 * (size_t)n, sizeof *lists.block);
+    uint64_t *tmp = tt_alloc_array(b->ctx, 6 * (size_t)n, sizeof *tmp);
+    kd_sub *top = kd_sub_new(b);
+    tt_status st = TT_OK;
+    if (!p.scratch || !lists.block || !tmp || !top) {
+        tt_free(b->ctx, lists.block);
+        st = kd_oom(b);
+    } else {
+        top->out.par = &par;
+#pragma omp parallel num_threads(threads)
+#pragma omp single
+        {
+            par.m = root_lists(b, root, &lists, tmp, 1);
+            tt_free(b->ctx, tmp);
+            tmp = NULL;
+            kd_place here = {0, 0, TT_KD_NO_PARENT};
+            st = par_build(&p, top, &lists, (uint32_t)par.m, root, here);
+        }
+        if (par.abort) st = KD_ABORTED;
+        if (st == TT_OK) st = kd_replay(b, top, root);
+    }
+    tt_free(b->ctx, tmp);
+    if (p.scratch)
+        for (int t = 0; t < threads; t++) state_free(&p.scratch[t]);
+    tt_free(b->ctx, p.scratch);
+    kd_sub_free(b->ctx, top);
+    return st;
 }
 
 tt_status kd_build_nlogn(kd_builder *b, const tt_aabb *root)
 {
     const uint32_t n = b->tri_count;
-    nl_state s = {b, NULL, NULL, NULL, NULL, 0};
+    const int threads = kd_par_threads(b->ctx);
+    if (threads > 1 && n >= kd_par_cutoff) {
+        tt_status st = build_parallel(b, root, threads);
+        if (st != KD_ABORTED) return st;
+    }
+    nl_state s;
+    state_init(&s, b);
     nl_lists lists = {NULL, {0, 0, 0}, 1};
-    s.side = tt_alloc_array(b->ctx, n, sizeof *s.side);
-    s.ids = tt_alloc_array(b->ctx, n, sizeof *s.ids);
-    s.pool = tt_calloc(b->ctx, 2 * ((size_t)b->max_depth + 1), sizeof *s.pool);
     lists.block = tt_alloc_array(b->ctx, 6 * (size_t)n, sizeof *lists.block);
     uint64_t *tmp = tt_alloc_array(b->ctx, 2 * (size_t)n, sizeof *tmp);
     tt_status st;
-    if (!s.side || !s.ids || !s.pool || !lists.block || !tmp) {
+    if (!state_alloc(&s, n) || !lists.block || !tmp) {
         tt_free(b->ctx, lists.block);
         st = kd_oom(b);
     } else {
-        /* Axis runs of 2 n events each at first, compacted below. */
-        uint32_t m = 0;
-        for (uint32_t i = 0; i < n; i++) {
-            tt_aabb box;
-            if (!kd_clip_triangle(b->tri + 9 * (size_t)i, root, &box)) continue;
-            m++;
-            for (int k = 0; k < 3; k++)
-                lists.n[k] += kd_events_of(lists.block + 2 * (size_t)n * k + lists.n[k], box.lo[k],
-                                           box.hi[k], i);
-        }
-        size_t at = 0;
-        for (int k = 0; k < 3; k++) {
-            memmove(lists.block + at, lists.block + 2 * (size_t)n * k, lists.n[k] * sizeof(uint64_t));
-            kd_radix_sort_events(lists.block + at, tmp, lists.n[k]);
-            at += lists.n[k];
-        }
+        const uint32_t m = root_lists(b, root, &lists, tmp, 0);
         tt_free(b->ctx, tmp);
         tmp = NULL;
         kd_place here = {0, 0, TT_KD_NO_PARENT};
         b->live = m;
-        st = build(&s, &lists, m, root, &here);
+        st = build(b, &s, &lists, m, root, &here);
     }
     tt_free(b->ctx, tmp);
-    tt_free(b->ctx, s.side);
-    tt_free(b->ctx, s.ids);
-    tt_free(b->ctx, s.clip);
-    if (s.pool)
-        for (size_t i = 0; i < 2 * ((size_t)b->max_depth + 1); i++) tt_free(b->ctx, s.pool[i]);
-    tt_free(b->ctx, s.pool);
+    state_free(&s);
     return st;
 }

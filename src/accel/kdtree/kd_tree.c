@@ -8,9 +8,11 @@
 
 static tt_status validate(tt_context *ctx, const tt_kdtree_options *o)
 {
-    if (o->builder != TT_KD_NLOGN && o->builder != TT_KD_NLOG2N)
+    if (o->builder != TT_KD_NLOGN && o->builder != TT_KD_NLOG2N && o->builder != TT_KD_BINNED)
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT,
-                        "kdtree: builder %d is not TT_KD_NLOGN (0) or TT_KD_NLOG2N (1)", (int)o->builder);
+                        "kdtree: builder %d is not TT_KD_NLOGN (0), TT_KD_NLOG2N (1) or "
+                        "TT_KD_BINNED (2)",
+                        (int)o->builder);
     if (o->dmin == 0)
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT,
                         "kdtree: dmin 0 is not allowed (>= 1: a box every dmin levels; < 0: no boxes)");
@@ -100,6 +102,7 @@ tt_status tt_kdtree_build(tt_context *ctx, const tt_scene *scene, const tt_kdtre
     b.max_depth = opt->max_depth ? opt->max_depth : auto_depth(scene->triangle_count);
     b.dmin = opt->dmin;
     b.ref_budget = kd_ref_budget(b.tri_count);
+    b.binned = opt->builder == TT_KD_BINNED;
     tt_aabb root = scene->bounds;
     /* Record 0: the root's box, which every traversal clips against. */
     b.aug = tt_alloc_array(ctx, 256, sizeof *b.aug);
