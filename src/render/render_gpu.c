@@ -19,13 +19,16 @@
 #endif
 
 #define SUPPORTED                                                                          \
-    "the GPU traces rtree with the auto, stackless or ordered traversal and kdtree with "  \
-    "sltr or htr"
+    "the GPU traces rtree in the complete layout (--layout complete) with the auto, "    \
+    "stackless or ordered traversal and kdtree with sltr or htr"
 
 tt_status tt_render_gpu_validate(tt_context *ctx, const tt_accel *accel)
 {
     const char *name = accel->vt->name;
     if (strcmp(name, "rtree") == 0) {
+        if (accel->options.rtree.layout == TT_RTREE_LAYOUT_COMPACT)
+            return tt_error(ctx, TT_ERR_UNSUPPORTED,
+                            "tt_render: " SUPPORTED ", not rtree in the compact layout");
         if (accel->options.rtree.traversal == TT_RTREE_STACK)
             return tt_error(ctx, TT_ERR_UNSUPPORTED,
                             "tt_render: " SUPPORTED ", not rtree with the stack traversal");
