@@ -126,6 +126,10 @@ static tt_status check_node(walk *w, uint32_t n, uint32_t l, uint32_t parent, fl
     if (cnt < lo || cnt > c->M)
         return FAIL("rtree compact: %s %u on level %u holds %u entries, expected %u..%u",
                     is_root ? "root" : "node", n, l, cnt, lo, c->M);
+    for (uint32_t i = 0; l > 1 && i < cnt; i++)
+        if (ref[i] != ref[0] + i || ref[0] <= n)
+            return FAIL("rtree compact: the children of node %u are not consecutive nodes "
+                        "after it (entry %u is node %u)", n, i, ref[i]);
     rt_box_empty(box);
     for (uint32_t i = 0; i < c->S; i++) {
         float cb[6];
@@ -143,9 +147,6 @@ static tt_status check_node(walk *w, uint32_t n, uint32_t l, uint32_t parent, fl
         if (l == 1) {
             st = check_leaf(w, n, i, ref[i], is_root && cnt == 1, content);
         } else {
-            if (ref[i] != ref[0] + i || ref[0] <= n)
-                return FAIL("rtree compact: the children of node %u are not consecutive nodes "
-                            "after it (entry %u is node %u)", n, i, ref[i]);
             st = check_node(w, ref[i], l - 1, n, content);
         }
         if (st != TT_OK) return st;
