@@ -339,6 +339,10 @@ static size_t variants(const char *name, tt_build_options *v, const char **label
         v[n] = o, v[n].rtree.m = 4, v[n].rtree.M = 16, label[n++] = "m=4 M=16";
         v[n] = o, v[n].rtree.reinsert_far = 0, v[n].rtree.traversal = TT_RTREE_STACK;
         label[n++] = "close reinsert, stack traversal";
+        v[n] = o, v[n].rtree.layout = TT_RTREE_LAYOUT_COMPACT, v[n].rtree.m = 3, v[n].rtree.M = 8;
+        label[n++] = "compact layout m=3 M=8";
+        v[n] = o, v[n].rtree.layout = TT_RTREE_LAYOUT_COMPACT;
+        v[n].rtree.traversal = TT_RTREE_STACKLESS, label[n++] = "compact layout stackless";
     } else if (strcmp(name, "kdtree") == 0) {
         static const char *const t_names[] = {"nlogn htr dmin=1", "nlogn btr dmin=1",
                                               "nlogn sltr dmin=1", "nlogn seq dmin=1"};

@@ -44,7 +44,8 @@ static inline void hard_push(hard_variant *v, size_t *n, const tt_build_options 
 
 /* The variants of structure `name`: for the R-tree every insertion strategy
  * x forced reinsert on/off x every traversal at (m, M) = (2, 4), every
- * strategy at (4, 16), (3, 8), the quadratic split, close reinsert; for the
+ * strategy at (4, 16), (3, 8), the quadratic split, close reinsert, and the
+ * compact layout's traversals per ISA at M = 4, 8, 16; for the
  * kd-tree both builders x every traversal x sparse boxes every 1 or 3 levels
  * or none, plus the shadow-caster hint; any other structure with its
  * defaults. */
@@ -91,6 +92,30 @@ static inline size_t hard_variants(const char *name, hard_variant *v)
         r.rtree.reinsert_fraction = 0.5f;
         r.rtree.traversal = TT_RTREE_STACK;
         hard_push(v, &n, &r, "rtree close reinsert fraction 0.5 traversal=stack");
+        /* the compact layout: its stack traversal on every ISA this CPU
+         * runs and its stackless traversal, M = 4, 8, 16 */
+        static const int cm[3][2] = {{2, 4}, {3, 8}, {4, 16}};
+        for (int k = 0; k < 3; k++) {
+            for (int isa = TT_ISA_SCALAR; isa <= TT_ISA_AVX512 + 1; isa++) {
+                const int stackless = isa == TT_ISA_AVX512 + 1;
+                if (!stackless && !tt_isa_supported((tt_isa)isa)) continue;
+                r = o;
+                r.rtree.layout = TT_RTREE_LAYOUT_COMPACT;
+                r.rtree.m = cm[k][0], r.rtree.M = cm[k][1];
+                r.rtree.traversal = stackless ? TT_RTREE_STACKLESS : TT_RTREE_STACK;
+                r.isa = stackless ? TT_ISA_SCALAR : (tt_isa)isa;
+                snprintf(label, sizeof label, "rtree compact m=%d M=%d traversal=%s isa=%s",
+                         cm[k][0], cm[k][1], stackless ? "stackless" : "stack",
+                         tt_isa_name(r.isa));
+                hard_push(v, &n, &r, label);
+            }
+        }
+        r = o;
+        r.rtree.layout = TT_RTREE_LAYOUT_COMPACT;
+        r.rtree.strategy = TT_RTREE_MIN_VOLUME;
+        r.rtree.reinsert = 0;
+        r.rtree.m = 2, r.rtree.M = 6;
+        hard_push(v, &n, &r, "rtree compact min-volume m=2 M=6 reinsert=0 traversal=auto");
     } else if (strcmp(name, "kdtree") == 0) {
         static const int dmins[3] = {1, 3, -1};
         for (int b = TT_KD_NLOGN; b <= TT_KD_NLOG2N; b++)
