@@ -87,4 +87,36 @@ TT_HD int tt_tri_blocks_occluded_scalar(const tt_wray *r, const tt_tri_block *b,
     return 0;
 }
 
+/* The kernels of one ISA, for tests and simple users; structures include the
+ * per-ISA headers in their own *_<isa>.c units instead, so the kernel is
+ * inlined into their traversal. Host code only. */
+#ifndef __CUDACC__
+
+typedef struct tt_tri_block_kernels {
+    int (*intersect)(const tt_wray *r, const tt_tri_block *b, uint32_t count, tt_hit *hit);
+    int (*occluded)(const tt_wray *r, const tt_tri_block *b, uint32_t count, float tmax);
+} tt_tri_block_kernels;
+
+/* The kernels of `isa` (the caller checks tt_isa_supported); the scalar
+ * ones for TT_ISA_SCALAR, TT_ISA_AUTO, unknown values and in builds without
+ * x86 kernels. */
+tt_tri_block_kernels tt_tri_block_kernels_for(tt_isa isa);
+
+#ifdef TT_HAVE_X86_KERNELS
+/* Out-of-line copies of the per-ISA kernels (tri_block_<isa>.c). */
+int tt_tri_blocks_intersect_sse42_fn(const tt_wray *r, const tt_tri_block *b, uint32_t count,
+                                     tt_hit *hit);
+int tt_tri_blocks_occluded_sse42_fn(const tt_wray *r, const tt_tri_block *b, uint32_t count,
+                                    float tmax);
+int tt_tri_blocks_intersect_avx2_fn(const tt_wray *r, const tt_tri_block *b, uint32_t count,
+                                    tt_hit *hit);
+int tt_tri_blocks_occluded_avx2_fn(const tt_wray *r, const tt_tri_block *b, uint32_t count,
+                                   float tmax);
+int tt_tri_blocks_intersect_avx512_fn(const tt_wray *r, const tt_tri_block *b, uint32_t count,
+                                      tt_hit *hit);
+int tt_tri_blocks_occluded_avx512_fn(const tt_wray *r, const tt_tri_block *b, uint32_t count,
+                                     float tmax);
+#endif
+#endif
+
 #endif
