@@ -15,8 +15,10 @@
  * entry distance is not below the closest hit found since is skipped. On
  * level 1 the children are leaves, tested in that near-to-far order
  * without touching the stack, stopping at the first one beyond the closest
- * hit. Occlusion: no sorting (any hit ends the walk), leaves tested as
- * found. */
+ * hit. Occlusion takes the same near-to-far order and ends at the first
+ * hit: visiting children in memory order instead was slower for shadow
+ * rays on the bunny and Sibenik (a near occluder is found later), as the
+ * complete layout's ordered traversal also measured. */
 #include "accel/rtree/rtc_layout.h"
 
 TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, const uint32_t S,
@@ -46,27 +48,7 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
         TT_COUNT(stats, nodes, 1);
         TT_COUNT(stats, interior, 1);
         TT_COUNT(stats, boxes, tt_rtc_count(t, rec));
-        if (any) {
-            if (level == 1) {
-                while (mask) {
-                    const uint32_t i = tt_rt_ctz(mask);
-                    mask &= mask - 1;
-                    uint32_t nb;
-                    const tt_tri_block *b = tt_rtc_leaf_blocks(t, child[i], &nb);
-                    TT_COUNT(stats, nodes, 1);
-                    TT_COUNT(stats, leaves, 1);
-                    TT_COUNT(stats, triangles, nb * TT_TRI_BLOCK_W);
-                    if (RTC_BLOCKS_OCCLUDED(r, b, nb, h.t)) return 1;
-                }
-            } else {
-                while (mask) {
-                    const uint32_t i = tt_rt_ctz(mask);
-                    mask &= mask - 1;
-                    stack_node[sp] = child[i];
-                    stack_t[sp++] = tb[i];
-                }
-            }
-        } else if (mask) {
+        if (mask) {
             /* the hit children in ascending entry distance */
             uint32_t ord[TT_RT_MAX_M];
             float ot[TT_RT_MAX_M];
@@ -91,7 +73,11 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
                     TT_COUNT(stats, nodes, 1);
                     TT_COUNT(stats, leaves, 1);
                     TT_COUNT(stats, triangles, nb * TT_TRI_BLOCK_W);
-                    RTC_BLOCKS_INTERSECT(r, b, nb, &h);
+                    if (any) {
+                        if (RTC_BLOCKS_OCCLUDED(r, b, nb, h.t)) return 1;
+                    } else {
+                        RTC_BLOCKS_INTERSECT(r, b, nb, &h);
+                    }
                 }
             } else {
                 for (uint32_t j = k - 1; j > 0; j--) {
