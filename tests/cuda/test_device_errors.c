@@ -99,16 +99,17 @@ static int test_api_device(tt_context *ctx, const tt_scene *scene)
  * device is looked at, with a message naming what it traces. */
 static void test_api_unsupported(tt_context *ctx, const tt_scene *scene)
 {
-    static const char *const supported = "the GPU traces rtree in the complete layout "
-                                         "(--layout complete) with the auto, stackless or "
-                                         "ordered traversal and kdtree with sltr or htr";
+    static const char *const supported = "the GPU traces rtree with the auto, stackless or "
+                                         "ordered traversal (in the compact layout: auto or "
+                                         "stackless) and kdtree with sltr or htr";
     struct {
         const char *accel;
         int rtree_traversal, kd_traversal, caster, compact;
         const char *names;
     } cases[] = {
         {"rtree", TT_RTREE_STACK, 0, 0, 0, "not rtree with the stack traversal"},
-        {"rtree", TT_RTREE_STACKLESS, 0, 0, 1, "not rtree in the compact layout"},
+        {"rtree", TT_RTREE_ORDERED, 0, 0, 1,
+         "not rtree in the compact layout with the ordered traversal"},
         {"bruteforce", 0, 0, 0, 0, "not bruteforce"},
         {"kdtree", 0, TT_KD_BTR, 0, 0, "not kdtree with the btr traversal"},
         {"kdtree", 0, TT_KD_SEQ, 0, 0, "not kdtree with the seq traversal"},
