@@ -31,17 +31,17 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
     h.prim = TT_INVALID_ID;
     uint32_t stack_node[TT_RTC_STACK_SIZE];
     float stack_t[TT_RTC_STACK_SIZE];
-    uint32_t sp = 0;
+    uint8_t stack_l[TT_RTC_STACK_SIZE]; /* levels travel with the entries: */
+    uint32_t sp = 0;                    /* no read of the record's header */
     rtc_lanes lanes;
     rtc_lanes_init(&lanes, r);
     tt_rt_planes planes; /* the ray's near/far bound rows, once per ray */
     tt_rt_planes_init(&planes, r, S);
     (void)stats;
     TT_COUNT(stats, rays, 1);
-    uint32_t n = 0;
+    uint32_t n = 0, level = t->height;
     for (;;) {
         const float *rec = tt_rtc_node(t, n);
-        const uint32_t level = tt_rtc_level(t, rec);
         const uint32_t *child = tt_rtc_child(t, rec);
         float tb[TT_RT_MAX_M];
         uint32_t mask = rtc_group_test(&lanes, &planes, rec, S, h.t, tb);
@@ -82,9 +82,11 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
             } else {
                 for (uint32_t j = k - 1; j > 0; j--) {
                     stack_node[sp] = child[ord[j]];
+                    stack_l[sp] = (uint8_t)(level - 1);
                     stack_t[sp++] = ot[j];
                 }
                 n = child[ord[0]];
+                level--;
                 continue;
             }
         }
@@ -94,6 +96,7 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
             sp--;
             if (stack_t[sp] < h.t) {
                 n = stack_node[sp];
+                level = stack_l[sp];
                 break;
             }
         }
