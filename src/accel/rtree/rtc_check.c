@@ -9,11 +9,11 @@
  *     link names it;
  *  3. every child box is finite and exactly the union of the child's
  *     content (child boxes, or the leaf's triangles' vertices);
- *  4. leaves: m..M triangles (the root's only leaf may hold fewer) in the
- *     leading lanes of their blocks, blocks consecutive in walk order and
- *     covering the block array; every triangle id exactly once, its lanes
- *     the scene's vertices (NaN for a zero-area triangle, as
- *     tt_tri_block_pack writes them), unused lanes NaN with no id.
+ *  4. leaves: m..M triangles (the root's only leaf may hold fewer) in
+ *     lanes inside the block array that no other leaf holds; every triangle
+ *     id exactly once, its lanes the scene's vertices (NaN for a zero-area
+ *     triangle, as tt_tri_block_pack writes them); lanes of no leaf NaN
+ *     with no id.
  */
 #include <math.h>
 #include <string.h>
@@ -27,7 +27,7 @@ typedef struct walk {
     const tt_scene *scene;
     uint8_t *reached; /* per node */
     uint8_t *seen;    /* per triangle id */
-    uint32_t next_block;
+    uint8_t *lane_owned; /* per triangle lane of the blocks */
 } walk;
 
 #define FAIL(...) tt_error(w->ctx, TT_ERR_INVARIANT, __VA_ARGS__)
@@ -56,54 +56,61 @@ static tt_status check_leaf(walk *w, uint32_t n, uint32_t i, uint32_t ref, int l
 {
     const tt_rtc *c = &w->t->c;
     uint32_t nb;
-    if ((ref >> 1) != w->next_block)
-        return FAIL("rtree compact: leaf %u of node %u starts at block %u, expected %u", i, n,
-                    ref >> 1, w->next_block);
-    const tt_tri_block *b = tt_rtc_leaf_blocks(c, ref, &nb);
-    if (w->next_block + nb > c->blocks)
+    (void)tt_rtc_leaf_blocks(c, ref, &nb);
+    const uint64_t first = (uint64_t)(ref >> 7) * TT_TRI_BLOCK_W + tt_rtc_leaf_lane(ref);
+    const uint32_t cnt = tt_rtc_leaf_count(ref);
+    if ((ref >> 7) + nb > c->blocks)
         return FAIL("rtree compact: leaf %u of node %u runs past the %u blocks", i, n, c->blocks);
-    w->next_block += nb;
-    uint32_t cnt = 0;
-    rt_box_empty(box);
-    for (uint32_t j = 0; j < nb; j++)
-        for (uint32_t l = 0; l < TT_TRI_BLOCK_W; l++) {
-            const uint32_t id = b[j].prim[l];
-            const uint32_t lane = j * TT_TRI_BLOCK_W + l;
-            if (id == TT_INVALID_ID) {
-                for (int k = 0; k < 9; k++)
-                    if (!isnan(b[j].v[k][l]))
-                        return FAIL("rtree compact: leaf %u of node %u: unused lane %u is not "
-                                    "NaN", i, n, lane);
-                continue;
-            }
-            if (lane != cnt)
-                return FAIL("rtree compact: leaf %u of node %u: lane %u is used after an unused "
-                            "one", i, n, lane);
-            cnt++;
-            if (id >= w->scene->triangle_count)
-                return FAIL("rtree compact: leaf %u of node %u holds triangle id %u, the scene "
-                            "has %zu", i, n, id, w->scene->triangle_count);
-            if (w->seen[id]++)
-                return FAIL("rtree compact: triangle %u is stored twice (again in leaf %u of "
-                            "node %u)", id, i, n);
-            const float *v = w->scene->tri + 9 * (size_t)id;
-            const int dead = tt_tri_is_degenerate(v, v + 3, v + 6);
-            for (int k = 0; k < 9; k++) {
-                const float s = b[j].v[k][l];
-                if (dead ? !isnan(s) : memcmp(&s, &v[k], sizeof s) != 0)
-                    return FAIL("rtree compact: leaf %u of node %u: the stored vertices of "
-                                "triangle %u differ from the scene's", i, n, id);
-            }
-            for (int q = 0; q < 3; q++)
-                for (int a = 0; a < 3; a++) {
-                    box[a] = rt_min(box[a], v[3 * q + a]);
-                    box[a + 3] = rt_max(box[a + 3], v[3 * q + a]);
-                }
-        }
     const uint32_t lo = lone ? 1u : (uint32_t)w->t->m;
-    if (cnt < lo || cnt > c->M || tt_tri_block_count(cnt) != nb)
-        return FAIL("rtree compact: leaf %u of node %u holds %u triangles in %u blocks, expected "
-                    "%u..%u", i, n, cnt, nb, lo, c->M);
+    if (cnt < lo || cnt > c->M)
+        return FAIL("rtree compact: leaf %u of node %u holds %u triangles, expected %u..%u", i, n,
+                    cnt, lo, c->M);
+    rt_box_empty(box);
+    for (uint32_t k = 0; k < cnt; k++) {
+        const uint64_t g = first + k;
+        const tt_tri_block *bk = &c->block[g / TT_TRI_BLOCK_W];
+        const uint32_t l = (uint32_t)(g % TT_TRI_BLOCK_W);
+        if (w->lane_owned[g]++)
+            return FAIL("rtree compact: leaf %u of node %u claims lane %llu, which another "
+                        "leaf holds", i, n, (unsigned long long)g);
+        const uint32_t id = bk->prim[l];
+        if (id >= w->scene->triangle_count)
+            return FAIL("rtree compact: leaf %u of node %u holds triangle id %u, the scene has "
+                        "%zu", i, n, id, w->scene->triangle_count);
+        if (w->seen[id]++)
+            return FAIL("rtree compact: triangle %u is stored twice (again in leaf %u of node "
+                        "%u)", id, i, n);
+        const float *v = w->scene->tri + 9 * (size_t)id;
+        const int dead = tt_tri_is_degenerate(v, v + 3, v + 6);
+        for (int q = 0; q < 9; q++) {
+            const float s = bk->v[q][l];
+            if (dead ? !isnan(s) : memcmp(&s, &v[q], sizeof s) != 0)
+                return FAIL("rtree compact: leaf %u of node %u: the stored vertices of triangle "
+                            "%u differ from the scene's", i, n, id);
+        }
+        for (int q = 0; q < 3; q++)
+            for (int a = 0; a < 3; a++) {
+                box[a] = rt_min(box[a], v[3 * q + a]);
+                box[a + 3] = rt_max(box[a + 3], v[3 * q + a]);
+            }
+    }
+    return TT_OK;
+}
+
+/* 4: lanes no leaf holds are unused: NaN, no id. */
+static tt_status check_free_lanes(walk *w)
+{
+    const tt_rtc *c = &w->t->c;
+    for (uint64_t g = 0; g < (uint64_t)c->blocks * TT_TRI_BLOCK_W; g++) {
+        if (w->lane_owned[g]) continue;
+        const tt_tri_block *bk = &c->block[g / TT_TRI_BLOCK_W];
+        const uint32_t l = (uint32_t)(g % TT_TRI_BLOCK_W);
+        int bad = bk->prim[l] != TT_INVALID_ID;
+        for (int q = 0; q < 9; q++) bad |= !isnan(bk->v[q][l]);
+        if (bad)
+            return FAIL("rtree compact: lane %llu is in no leaf but is not marked unused",
+                        (unsigned long long)g);
+    }
     return TT_OK;
 }
 
@@ -161,7 +168,7 @@ static tt_status check_node(walk *w, uint32_t n, uint32_t l, uint32_t parent, fl
 tt_status rtc_check(tt_context *ctx, const rtc_tree *t, const tt_scene *scene)
 {
     const tt_rtc *c = &t->c;
-    walk w = {ctx, t, scene, NULL, NULL, 0};
+    walk w = {ctx, t, scene, NULL, NULL, NULL};
     if (c->triangles != scene->triangle_count)
         return tt_error(ctx, TT_ERR_INVARIANT,
                         "rtree compact: %u triangles packed, the scene has %zu", c->triangles,
@@ -173,23 +180,22 @@ tt_status rtc_check(tt_context *ctx, const rtc_tree *t, const tt_scene *scene)
                         "nodes, height %u)", c->M, c->S, c->words, c->nodes, c->height);
     w.reached = tt_calloc(ctx, c->nodes, 1);
     w.seen = tt_calloc(ctx, scene->triangle_count ? scene->triangle_count : 1, 1);
+    w.lane_owned = tt_calloc(ctx, (size_t)c->blocks * TT_TRI_BLOCK_W + 1, 1);
     tt_status st = TT_OK;
-    if (!w.reached || !w.seen)
+    if (!w.reached || !w.seen || !w.lane_owned)
         st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree compact check: out of memory");
     float root[6];
     if (st == TT_OK) st = check_node(&w, 0, c->height, TT_INVALID_ID, root);
     for (uint32_t n = 0; st == TT_OK && n < c->nodes; n++)
         if (!w.reached[n])
             st = tt_error(ctx, TT_ERR_INVARIANT, "rtree compact: node %u is not in the tree", n);
-    if (st == TT_OK && w.next_block != c->blocks)
-        st = tt_error(ctx, TT_ERR_INVARIANT,
-                      "rtree compact: the leaves use %u of the %u blocks", w.next_block,
-                      c->blocks);
+    if (st == TT_OK) st = check_free_lanes(&w);
     for (uint32_t id = 0; st == TT_OK && id < c->triangles; id++)
         if (!w.seen[id])
             st = tt_error(ctx, TT_ERR_INVARIANT, "rtree compact: triangle %u is not in the tree",
                           id);
     tt_free(ctx, w.reached);
     tt_free(ctx, w.seen);
+    tt_free(ctx, w.lane_owned);
     return st;
 }

@@ -15,15 +15,24 @@
  *                      the mark every slab test misses (as in
  *                      rtree_packed.h), so a SIMD kernel tests all S lanes.
  *   words [6S, 7S):    child references. Level >= 2: the child's node
- *                      index. Level 1: the leaf's first block << 1, plus 1
- *                      when it has two blocks (M <= 16 entries fit two).
+ *                      index. Level 1: a leaf, its triangles lanes
+ *                      [lane, lane + count) from the start of block `block`
+ *                      (ref = block << 7 | (count - 1) << 3 | lane; 1 <=
+ *                      count <= 16, so a leaf covers one or two blocks).
  *   word 7S:           the parent's node index (TT_INVALID_ID: the root).
  *   word 7S + 1:       entries (bits 0-7) and level (bits 8-15).
  * Node order: the root is node 0; the interior children of a node are
  * consecutive (so a node's position in its parent is its index minus the
  * parent's first child, which the stackless walk needs) and subtrees are
  * laid out depth first (a ray descending one subtree stays in one region).
- * Blocks are in the same depth-first order. */
+ * Leaves are in the same depth-first order, packed into the blocks first
+ * fit in that order: a leaf of up to 8 triangles goes into the lanes left
+ * in the last block when they suffice (so small leaves share blocks), else
+ * into fresh blocks. A block is always tested whole, so a leaf's test may
+ * also test its neighbours' triangles: harmless, they are real triangles of
+ * the scene (any hit found is a true hit, and the closest one is still
+ * found in its own leaf), and SIMD pays for all 8 lanes anyway; what it
+ * saves is the unused lanes' memory. */
 #ifndef TT_ACCEL_RTREE_RTC_LAYOUT_H
 #define TT_ACCEL_RTREE_RTC_LAYOUT_H
 
@@ -70,11 +79,19 @@ TT_HD uint32_t tt_rtc_level(const tt_rtc *t, const float *rec)
     return (TT_LDG((const uint32_t *)(rec + 7 * t->S) + 1) >> 8) & 0xffu;
 }
 
-/* A leaf reference's blocks. */
+/* A leaf reference's parts, and the blocks its lanes touch. */
+#define TT_RTC_LEAF_BLOCK_BITS 25 /* blocks < 2^25: 2^28 triangle lanes */
+TT_HD uint32_t tt_rtc_leaf_lane(uint32_t ref) { return ref & 7u; }
+TT_HD uint32_t tt_rtc_leaf_count(uint32_t ref) { return ((ref >> 3) & 15u) + 1u; }
+TT_HD uint32_t tt_rtc_leaf_ref(uint32_t block, uint32_t lane, uint32_t count)
+{
+    return block << 7 | (count - 1u) << 3 | lane;
+}
 TT_HD const tt_tri_block *tt_rtc_leaf_blocks(const tt_rtc *t, uint32_t ref, uint32_t *nblocks)
 {
-    *nblocks = (ref & 1u) + 1u;
-    return t->block + (ref >> 1);
+    *nblocks = (tt_rtc_leaf_lane(ref) + tt_rtc_leaf_count(ref) + TT_TRI_BLOCK_W - 1) /
+               TT_TRI_BLOCK_W;
+    return t->block + (ref >> 7);
 }
 
 /* The record size for M entries: 7 S + 2 words rounded up to 16 words. */

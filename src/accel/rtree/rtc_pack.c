@@ -3,13 +3,14 @@
  * (rtc_layout.h). Boxes are copied verbatim from the pointer tree, never
  * recomputed, so the check (rtc_check.c) also verifies that the builder
  * kept every node box the exact union of its entries. */
+#include <math.h>
 #include <string.h>
 
 #include "accel/rtree/rtc.h"
 #include "accel/rtree/rtree_box.h"
 
-_Static_assert(TT_RT_MAX_M <= 2 * TT_TRI_BLOCK_W,
-               "a leaf reference encodes one or two triangle blocks");
+_Static_assert(TT_RT_MAX_M <= 16 && TT_TRI_BLOCK_W == 8,
+               "a leaf reference holds a lane in a block (3 bits) and count - 1 (4 bits)");
 
 size_t rtc_bytes(const rtc_tree *t)
 {
@@ -37,17 +38,41 @@ static void *alloc_aligned(tt_context *ctx, size_t count, size_t size, void **ra
     return (void *)(((uintptr_t)*raw + 63) & ~(uintptr_t)63);
 }
 
-/* Interior nodes (level >= 1) and triangle blocks under builder node n. */
-static void count_tree(const rt_builder *b, uint32_t n, uint64_t *nodes, uint64_t *blocks)
+/* First-fit placement of leaves into blocks, in leaf order (rtc_layout.h):
+ * `blocks` opened so far, `used` lanes of the last one. Returns the first
+ * global lane of a leaf of `count` triangles. */
+typedef struct lanes_fill {
+    uint64_t blocks;
+    uint32_t used;
+} lanes_fill;
+
+static uint64_t place_leaf(lanes_fill *f, uint32_t count)
+{
+    if (count <= TT_TRI_BLOCK_W && f->blocks > 0 && f->used + count <= TT_TRI_BLOCK_W) {
+        const uint64_t lane = (f->blocks - 1) * TT_TRI_BLOCK_W + f->used;
+        f->used += count;
+        return lane;
+    }
+    const uint64_t lane = f->blocks * TT_TRI_BLOCK_W;
+    const uint32_t nb = tt_tri_block_count(count);
+    f->blocks += nb;
+    f->used = count - (nb - 1) * TT_TRI_BLOCK_W;
+    return lane;
+}
+
+/* Interior nodes (level >= 1) under builder node n, and the blocks its
+ * leaves fill, walking in the packer's order (depth first, children in
+ * order). */
+static void count_tree(const rt_builder *b, uint32_t n, uint64_t *nodes, lanes_fill *f)
 {
     const rt_node_hdr *h = &b->hdr[n];
     if (h->level == 0) {
-        *blocks += tt_tri_block_count(h->count);
+        if (h->count > 0) place_leaf(f, h->count);
         return;
     }
     (*nodes)++;
     const uint32_t *ch = rt_node_child(b, n);
-    for (int i = 0; i < h->count; i++) count_tree(b, ch[i], nodes, blocks);
+    for (int i = 0; i < h->count; i++) count_tree(b, ch[i], nodes, f);
 }
 
 typedef struct packer {
@@ -56,7 +81,8 @@ typedef struct packer {
     tt_rtc *c;
     float *node;
     tt_tri_block *block;
-    uint32_t next_node, next_block;
+    uint32_t next_node;
+    lanes_fill fill;
 } packer;
 
 /* Empties record n's child rows (+inf: always missed) and references. */
@@ -73,13 +99,23 @@ static float *record_init(packer *pk, uint32_t n, uint32_t parent, uint32_t coun
     return rec;
 }
 
-/* A leaf's triangles into the next blocks; returns its reference. */
+/* A leaf's triangles into the lanes place_leaf gives it (the blocks start
+ * out as unused lanes: NaN, no id); returns its reference. Zero-area
+ * triangles get NaN vertices, as tt_tri_block_pack gives them. */
 static uint32_t put_leaf(packer *pk, const uint32_t *ids, uint32_t count)
 {
-    const uint32_t first = pk->next_block, nb = tt_tri_block_count(count);
-    tt_tri_block_pack(pk->scene_tri, ids, count, pk->block + first);
-    pk->next_block += nb;
-    return first << 1 | (nb > 1u);
+    const uint64_t first = place_leaf(&pk->fill, count);
+    for (uint32_t k = 0; k < count; k++) {
+        const uint64_t g = first + k;
+        tt_tri_block *b = &pk->block[g / TT_TRI_BLOCK_W];
+        const uint32_t lane = (uint32_t)(g % TT_TRI_BLOCK_W);
+        const float *v = pk->scene_tri + 9 * (size_t)ids[k];
+        const int dead = tt_tri_is_degenerate(v, v + 3, v + 6);
+        for (int q = 0; q < 9; q++) b->v[q][lane] = dead ? NAN : v[q];
+        b->prim[lane] = ids[k];
+    }
+    return tt_rtc_leaf_ref((uint32_t)(first / TT_TRI_BLOCK_W),
+                           (uint32_t)(first % TT_TRI_BLOCK_W), count);
 }
 
 tt_status rtc_pack(tt_context *ctx, const rt_builder *b, const float *scene_tri, rtc_tree *t)
@@ -88,15 +124,17 @@ tt_status rtc_pack(tt_context *ctx, const rt_builder *b, const float *scene_tri,
     memset(c, 0, sizeof *c);
     const uint32_t M = (uint32_t)b->M;
     const rt_node_hdr *root = &b->hdr[b->root];
-    uint64_t nodes = 0, blocks = 0;
-    count_tree(b, b->root, &nodes, &blocks);
+    uint64_t nodes = 0;
+    lanes_fill fill = {0, 0};
+    count_tree(b, b->root, &nodes, &fill);
+    const uint64_t blocks = fill.blocks;
     if (root->level == 0) nodes = 1; /* a leaf root gets a node above it */
     const uint32_t height = root->level == 0 ? 1u : root->level;
     if (height * M > TT_RTC_STACK_SIZE || height > 255)
         return tt_error(ctx, TT_ERR_UNSUPPORTED,
                         "rtree compact layout: the tree has %u levels of %u entries; the "
                         "traversal stack holds %d", height + 1, M, TT_RTC_STACK_SIZE);
-    if (nodes >= UINT32_MAX || blocks >= (uint64_t)1 << 31)
+    if (nodes >= UINT32_MAX || blocks >= (uint64_t)1 << TT_RTC_LEAF_BLOCK_BITS)
         return tt_error(ctx, TT_ERR_OUT_OF_MEMORY,
                         "rtree compact layout: %llu nodes and %llu triangle blocks are beyond "
                         "32-bit references", (unsigned long long)nodes,
@@ -116,9 +154,14 @@ tt_status rtc_pack(tt_context *ctx, const rt_builder *b, const float *scene_tri,
                         "blocks (%.1f MB)", (unsigned long long)nodes,
                         (unsigned long long)blocks,
                         ((double)nodes * c->words * 4.0 + (double)blocks * 320.0) / 1e6);
+    for (uint64_t j = 0; j < blocks; j++) /* every lane unused until a leaf takes it */
+        for (int i = 0; i < TT_TRI_BLOCK_W; i++) {
+            for (int q = 0; q < 9; q++) block[j].v[q][i] = NAN;
+            block[j].prim[i] = TT_INVALID_ID;
+        }
     c->node = node;
     c->block = block;
-    packer pk = {b, scene_tri, c, node, block, 1, 0};
+    packer pk = {b, scene_tri, c, node, block, 1, {0, 0}};
 
     if (root->level == 0) {
         float *rec = record_init(&pk, 0, TT_INVALID_ID, root->count > 0, 1);
@@ -165,9 +208,9 @@ tt_status rtc_pack(tt_context *ctx, const rt_builder *b, const float *scene_tri,
             }
         }
     }
-    if (pk.next_node != c->nodes || pk.next_block != c->blocks)
+    if (pk.next_node != c->nodes || pk.fill.blocks != c->blocks)
         return tt_error(ctx, TT_ERR_INTERNAL,
-                        "rtree compact layout: wrote %u of %u nodes and %u of %u blocks",
-                        pk.next_node, c->nodes, pk.next_block, c->blocks);
+                        "rtree compact layout: wrote %u of %u nodes and %llu of %u blocks",
+                        pk.next_node, c->nodes, (unsigned long long)pk.fill.blocks, c->blocks);
     return TT_OK;
 }

@@ -23,16 +23,11 @@ static void visit(const tt_rtc *c, acc *a, uint32_t n)
             visit(c, a, ref[i]);
             continue;
         }
-        uint32_t nb;
-        const tt_tri_block *b = tt_rtc_leaf_blocks(c, ref[i], &nb);
+        const uint32_t cnt_leaf = tt_rtc_leaf_count(ref[i]);
         a->leaves += 1.0;
         a->level_nodes[0] += 1.0;
-        for (uint32_t j = 0; j < nb; j++)
-            for (int k = 0; k < TT_TRI_BLOCK_W; k++)
-                if (b[j].prim[k] != TT_INVALID_ID) {
-                    a->leaf_triangles += 1.0;
-                    a->level_entries[0] += 1.0;
-                }
+        a->leaf_triangles += cnt_leaf;
+        a->level_entries[0] += cnt_leaf;
     }
 }
 
