@@ -1,6 +1,7 @@
 /* The compact layout's check and bookkeeping, white box: corrupting a child
  * box, a node's entry count, a parent link, a child reference, a triangle
- * lane or a triangle id makes tt_accel_check fail with TT_ERR_INVARIANT
+ * lane or a triangle id, two leaves sharing lanes, an id in an unused lane
+ * makes tt_accel_check fail with TT_ERR_INVARIANT
  * naming the rule, and restoring it passes again; tt_accel_memory_bytes
  * counts the node records and blocks; tiny scenes (0, 1, 3 triangles, a
  * leaf root) build, check and trace like bruteforce; the statistics say
@@ -81,6 +82,28 @@ static void test_check_detects(tt_context *ctx, const tt_scene *scene)
     expect_broken(ctx, a, "stored twice");
     b[0].prim[1] = id;
     CHECK_OK(ctx, tt_accel_check(a));
+
+    /* two leaves claiming the same lanes; an unused lane given an id */
+    for (uint32_t n = 0; n < c->nodes; n++) {
+        float *rec = (float *)tt_rtc_node(c, n);
+        uint32_t *r = (uint32_t *)tt_rtc_child(c, rec);
+        if (tt_rtc_level(c, rec) != 1 || tt_rtc_count(c, rec) < 2) continue;
+        const uint32_t r1 = r[1];
+        r[1] = r[0];
+        expect_broken(ctx, a, "another leaf holds");
+        r[1] = r1;
+        CHECK_OK(ctx, tt_accel_check(a));
+        break;
+    }
+    for (uint32_t g = 0; g < c->blocks * TT_TRI_BLOCK_W; g++) {
+        tt_tri_block *bk = &b[g / TT_TRI_BLOCK_W];
+        if (bk->prim[g % TT_TRI_BLOCK_W] != TT_INVALID_ID) continue;
+        bk->prim[g % TT_TRI_BLOCK_W] = 0;
+        expect_broken(ctx, a, "not marked unused");
+        bk->prim[g % TT_TRI_BLOCK_W] = TT_INVALID_ID;
+        CHECK_OK(ctx, tt_accel_check(a));
+        break;
+    }
 
     /* memory: the records and blocks, nothing less */
     size_t bytes = tt_accel_memory_bytes(a);
