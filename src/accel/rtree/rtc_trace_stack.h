@@ -67,16 +67,31 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
                 ord[j] = i;
             }
             if (level == 1) {
+                /* Leaves share blocks (rtc_layout.h): a block already
+                 * tested for this node is not tested again, which is
+                 * exact: that test already saw every triangle of it below
+                 * a larger (or the same) closest hit. This node's blocks
+                 * lie within 2 M of its first leaf's, which has the
+                 * lowest index. */
+                const uint32_t base = child[0] >> 7;
+                uint64_t done = 0;
                 for (uint32_t j = 0; j < k && ot[j] < h.t; j++) {
+                    const uint32_t ref = child[ord[j]];
                     uint32_t nb;
-                    const tt_tri_block *b = tt_rtc_leaf_blocks(t, child[ord[j]], &nb);
+                    const tt_tri_block *b = tt_rtc_leaf_blocks(t, ref, &nb);
+                    const uint32_t off = (ref >> 7) - base;
                     TT_COUNT(stats, nodes, 1);
                     TT_COUNT(stats, leaves, 1);
-                    TT_COUNT(stats, triangles, nb * TT_TRI_BLOCK_W);
-                    if (any) {
-                        if (RTC_BLOCKS_OCCLUDED(r, b, nb, h.t)) return 1;
-                    } else {
-                        RTC_BLOCKS_INTERSECT(r, b, nb, &h);
+                    for (uint32_t q = 0; q < nb; q++) {
+                        const uint64_t bit = (uint64_t)1 << (off + q);
+                        if (done & bit) continue;
+                        done |= bit;
+                        TT_COUNT(stats, triangles, TT_TRI_BLOCK_W);
+                        if (any) {
+                            if (RTC_BLOCKS_OCCLUDED(r, b + q, 1, h.t)) return 1;
+                        } else {
+                            RTC_BLOCKS_INTERSECT(r, b + q, 1, &h);
+                        }
                     }
                 }
             } else {
