@@ -10,7 +10,9 @@
  *  3. every child box is finite and exactly the union of the child's
  *     content (child boxes, or the leaf's triangles' vertices);
  *  4. leaves: m..M triangles (the root's only leaf may hold fewer) in
- *     lanes inside the block array that no other leaf holds; every triangle
+ *     lanes inside the block array that no other leaf holds, a node's
+ *     leaves within 2 M blocks from its first leaf's (the traversal keeps a
+ *     64-bit set of the node's tested blocks); every triangle
  *     id exactly once, its lanes the scene's vertices (NaN for a zero-area
  *     triangle, as tt_tri_block_pack writes them); lanes of no leaf NaN
  *     with no id.
@@ -133,6 +135,12 @@ static tt_status check_node(walk *w, uint32_t n, uint32_t l, uint32_t parent, fl
     if (cnt < lo || cnt > c->M)
         return FAIL("rtree compact: %s %u on level %u holds %u entries, expected %u..%u",
                     is_root ? "root" : "node", n, l, cnt, lo, c->M);
+    /* the stack traversal's per-node block set needs the first leaf's
+     * block lowest and every other within 2 M blocks of it */
+    for (uint32_t i = 0; l == 1 && i < cnt; i++)
+        if ((ref[i] >> 7) < (ref[0] >> 7) || (ref[i] >> 7) - (ref[0] >> 7) + 2 > 2 * c->M)
+            return FAIL("rtree compact: leaf %u of node %u starts at block %u, outside the "
+                        "node's span from block %u", i, n, ref[i] >> 7, ref[0] >> 7);
     for (uint32_t i = 0; l > 1 && i < cnt; i++)
         if (ref[i] != ref[0] + i || ref[0] <= n)
             return FAIL("rtree compact: the children of node %u are not consecutive nodes "
