@@ -10,6 +10,7 @@ static const char *const strategies[] = {"min-volume", "min-surface", "min-overl
 static const char *const splits[] = {"rstar", "quadratic"};
 static const char *const rtree_builds[] = {"insert", "str", "hilbert", "sah"};
 static const char *const rtree_traversals[] = {"auto", "stackless", "ordered", "stack"};
+static const char *const rtree_layouts[] = {"complete", "compact"};
 static const char *const kd_builders[] = {"nlogn", "nlog2n", "binned"};
 static const char *const kd_traversals[] = {"htr", "btr", "sltr", "seq"};
 static const char *const on_off[] = {"off", "on"};
@@ -56,6 +57,9 @@ static int parse_rtree(cli_args *a, cli_accel_args *x, const char *opt, const ch
         st = cli_parse_choice(cmd, opt, v, on_off, COUNT(on_off), &r->reinsert);
     } else if (strcmp(opt, "--reinsert-fraction") == 0) {
         st = cli_parse_float(cmd, opt, v, 0.0, 1, 1.0, 1, &r->reinsert_fraction);
+    } else if (strcmp(opt, "--layout") == 0) {
+        st = cli_parse_choice(cmd, opt, v, rtree_layouts, COUNT(rtree_layouts), &k);
+        r->layout = (tt_rtree_layout)k;
     } else if (strcmp(opt, "--reinsert-mode") == 0) {
         st = cli_parse_choice(cmd, opt, v, reinsert_modes, COUNT(reinsert_modes), &r->reinsert_far);
     } else {
@@ -99,8 +103,9 @@ static int parse_kdtree(cli_args *a, cli_accel_args *x, const char *opt, const c
 
 int cli_accel_args_parse(cli_args *a, cli_accel_args *x, int *taken)
 {
-    static const char *const rtree_opts[] = {"--build", "--strategy", "--m", "--M", "--reinsert",
-                                             "--reinsert-fraction", "--reinsert-mode", "--split"};
+    static const char *const rtree_opts[] = {"--build", "--layout", "--strategy", "--m", "--M",
+                                             "--reinsert", "--reinsert-fraction", "--reinsert-mode",
+                                             "--split"};
     static const char *const kd_opts[] = {"--kd-build", "--dmin", "--ct", "--ci",
                                           "--empty-bonus", "--max-depth", "--shadow-hint"};
     *taken = 1;
@@ -213,6 +218,7 @@ void cli_accel_args_emit(cli_emit *e, const tt_build_options *b)
     if (strcmp(b->accel, "rtree") == 0) {
         const tt_rtree_options *r = &b->rtree;
         emit_str(e, "build", rtree_builds[r->build]);
+        emit_str(e, "layout", rtree_layouts[r->layout]);
         emit_int(e, "m", r->m);
         emit_int(e, "M", r->M);
         if (r->build == TT_RTREE_BUILD_INSERT) { /* the others do not use these */
@@ -257,6 +263,12 @@ void cli_accel_args_help(FILE *out)
             "                           STR tiles, Hilbert-curve order, or top-down by the\n"
             "                           surface area heuristic; the options below down to\n"
             "                           --split apply to insert only\n"
+            "  --layout complete|compact  complete: the paper's level-order array of the\n"
+            "                           complete M-ary tree (empty slots included); compact:\n"
+            "                           real nodes only, child boxes tested by SIMD (--isa),\n"
+            "                           triangles in 8-wide blocks; its traversals: stack\n"
+            "                           (= auto = ordered: near-to-far) or stackless (the\n"
+            "                           GPU's) (default complete)\n"
             "  --strategy NAME          min-volume|min-surface|min-overlap|rstar|rstar-surface\n"
             "                           (default rstar-surface)\n"
             "  --m N, --M N             minimum and maximum entries a node, 2 <= m <= M/2,\n"

@@ -10,6 +10,7 @@
 #include <stdint.h>
 
 #include "accel/kdtree/kd_layout.h"
+#include "accel/rtree/rtc_layout.h"
 #include "accel/rtree/rtree_packed.h"
 #include "render/camera_hd.h"
 #include "treetrace/treetrace.h"
@@ -33,6 +34,11 @@ typedef struct tt_gpu_structure {
     tt_rtree_packed rtree;
     size_t rtree_box_floats;
     float rtree_root_box[6]; /* the auto traversal's inside test (rt_locate) */
+    /* rtree in the compact layout (rtree_compact = 1): the tree (host
+     * pointers; nodes * words floats of records, blocks triangle blocks),
+     * traced by its stackless traversal; the fields above are unused */
+    int rtree_compact;
+    tt_rtc rtc;
     /* kdtree: the view (host pointers; its tri is the scene's), nodes[]
      * entries (extension slots included) and refs[] entries */
     tt_kd_view kd;

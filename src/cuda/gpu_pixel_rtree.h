@@ -7,6 +7,7 @@
  * tests run exactly the code the GPU runs. */
 #include "accel/rtree/rtree_trace_ordered.h"
 #include "accel/rtree/rtree_trace_stackless.h"
+#include "accel/rtree/rtc_trace_stackless.h"
 #include "render/camera_hd.h"
 
 #ifndef TT_CUDA_GPU_PIXEL_RTREE_ONCE
@@ -60,4 +61,33 @@ TT_HD int TT_VARIANT(tt_gpu_rt_shadow)(const tt_rtree_packed *t, int traversal,
     if (tt_gpu_rt_pick(traversal, root_box, s.org) == TT_RTREE_ORDERED)
         return TT_VARIANT(tt_rt_ordered)(t, &w, 1, NULL, stats);
     return TT_VARIANT(tt_rt_stackless)(t, &w, 1, NULL, stats);
+}
+
+/* The same two steps on the compact layout (rtc_layout.h), whose GPU
+ * traversal is the stackless one (the CPU's stack traversal is its SIMD
+ * form). */
+TT_HD void TT_VARIANT(tt_gpu_rtc_primary)(const tt_rtc *t, const tt_camera_basis *b, uint32_t x,
+                                          uint32_t y, uint32_t *prim, float *dist,
+                                          tt_ray_stats *stats)
+{
+    tt_ray r;
+    tt_wray w;
+    tt_hit h;
+    tt_camera_basis_ray(b, x, y, &r);
+    tt_wray_init(&w, r.org, r.dir, r.tmin, r.tmax);
+    TT_VARIANT(tt_rtc_stackless)(t, &w, 0, &h, stats);
+    *prim = h.prim;
+    *dist = h.prim == TT_INVALID_ID ? TT_INF : h.t;
+}
+
+TT_HD int TT_VARIANT(tt_gpu_rtc_shadow)(const tt_rtc *t, const tt_camera_basis *b, const float *tri,
+                                        const float *light, float eps, uint32_t x, uint32_t y,
+                                        uint32_t prim, float dist, tt_ray_stats *stats)
+{
+    tt_ray r, s;
+    tt_wray w;
+    tt_camera_basis_ray(b, x, y, &r);
+    tt_shadow_ray_from(tri + 9 * (size_t)prim, light, eps, &r, dist, &s);
+    tt_wray_init(&w, s.org, s.dir, s.tmin, s.tmax);
+    return TT_VARIANT(tt_rtc_stackless)(t, &w, 1, NULL, stats);
 }

@@ -19,13 +19,18 @@
 #endif
 
 #define SUPPORTED                                                                          \
-    "the GPU traces rtree with the auto, stackless or ordered traversal and kdtree with "  \
-    "sltr or htr"
+    "the GPU traces rtree with the auto, stackless or ordered traversal (in the compact "  \
+    "layout: auto or stackless) and kdtree with sltr or htr"
 
 tt_status tt_render_gpu_validate(tt_context *ctx, const tt_accel *accel)
 {
     switch (accel->vt->gpu) {
     case TT_ACCEL_GPU_RTREE:
+        if (accel->options.rtree.layout == TT_RTREE_LAYOUT_COMPACT &&
+            accel->options.rtree.traversal == TT_RTREE_ORDERED)
+            return tt_error(ctx, TT_ERR_UNSUPPORTED,
+                            "tt_render: " SUPPORTED
+                            ", not rtree in the compact layout with the ordered traversal");
         if (accel->options.rtree.traversal == TT_RTREE_STACK)
             return tt_error(ctx, TT_ERR_UNSUPPORTED,
                             "tt_render: " SUPPORTED ", not rtree with the stack traversal");
@@ -105,6 +110,9 @@ static tt_status describe(tt_context *ctx, const tt_accel *accel, tt_gpu_structu
         g->traversal = (int)t->traversal;
         g->rtree = t->p;
         g->rtree_box_floats = t->box_floats;
+        /* the compact layout: auto means stackless on the GPU */
+        g->rtree_compact = t->layout == TT_RTREE_LAYOUT_COMPACT;
+        g->rtc = t->compact.c;
         memcpy(g->rtree_root_box, t->root_box, sizeof g->rtree_root_box);
         return TT_OK;
     }

@@ -349,6 +349,12 @@ static size_t variants(const char *name, tt_build_options *v, const char **label
         v[n] = o, v[n].rtree.build = TT_RTREE_BUILD_SAH, label[n++] = "build sah";
         v[n] = o, v[n].rtree.build = TT_RTREE_BUILD_SAH, v[n].rtree.m = 4, v[n].rtree.M = 16;
         label[n++] = "build sah m=4 M=16";
+        v[n] = o, v[n].rtree.layout = TT_RTREE_LAYOUT_COMPACT, v[n].rtree.m = 3, v[n].rtree.M = 8;
+        label[n++] = "compact layout m=3 M=8";
+        v[n] = o, v[n].rtree.layout = TT_RTREE_LAYOUT_COMPACT;
+        v[n].rtree.traversal = TT_RTREE_STACKLESS, label[n++] = "compact layout stackless";
+        v[n] = o, v[n].rtree.layout = TT_RTREE_LAYOUT_COMPACT, v[n].rtree.build = TT_RTREE_BUILD_SAH;
+        v[n].rtree.m = 4, v[n].rtree.M = 16, label[n++] = "compact layout, build sah m=4 M=16";
     } else if (strcmp(name, "kdtree") == 0) {
         static const char *const t_names[] = {"nlogn htr dmin=1", "nlogn btr dmin=1",
                                               "nlogn sltr dmin=1", "nlogn seq dmin=1"};

@@ -100,17 +100,20 @@ static int test_api_device(tt_context *ctx, const tt_scene *scene)
 static void test_api_unsupported(tt_context *ctx, const tt_scene *scene)
 {
     static const char *const supported = "the GPU traces rtree with the auto, stackless or "
-                                         "ordered traversal and kdtree with sltr or htr";
+                                         "ordered traversal (in the compact layout: auto or "
+                                         "stackless) and kdtree with sltr or htr";
     struct {
         const char *accel;
-        int rtree_traversal, kd_traversal, caster;
+        int rtree_traversal, kd_traversal, caster, compact;
         const char *names;
     } cases[] = {
-        {"rtree", TT_RTREE_STACK, 0, 0, "not rtree with the stack traversal"},
-        {"bruteforce", 0, 0, 0, "not bruteforce"},
-        {"kdtree", 0, TT_KD_BTR, 0, "not kdtree with the btr traversal"},
-        {"kdtree", 0, TT_KD_SEQ, 0, "not kdtree with the seq traversal"},
-        {"kdtree", 0, TT_KD_SLTR, 1, "not the kd-tree's shadow-caster hint"},
+        {"rtree", TT_RTREE_STACK, 0, 0, 0, "not rtree with the stack traversal"},
+        {"rtree", TT_RTREE_ORDERED, 0, 0, 1,
+         "not rtree in the compact layout with the ordered traversal"},
+        {"bruteforce", 0, 0, 0, 0, "not bruteforce"},
+        {"kdtree", 0, TT_KD_BTR, 0, 0, "not kdtree with the btr traversal"},
+        {"kdtree", 0, TT_KD_SEQ, 0, 0, "not kdtree with the seq traversal"},
+        {"kdtree", 0, TT_KD_SLTR, 1, 0, "not the kd-tree's shadow-caster hint"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         tt_build_options bo;
@@ -119,6 +122,7 @@ static void test_api_unsupported(tt_context *ctx, const tt_scene *scene)
         bo.rtree.traversal = (tt_rtree_traversal)cases[i].rtree_traversal;
         bo.kdtree.traversal = (tt_kd_traversal)cases[i].kd_traversal;
         bo.kdtree.shadow_caster_hint = cases[i].caster;
+        if (cases[i].compact) bo.rtree.layout = TT_RTREE_LAYOUT_COMPACT;
         int present = 0;
         for (const char *const *n = tt_accel_names(); *n; n++) present |= strcmp(*n, bo.accel) == 0;
         if (!present) continue;

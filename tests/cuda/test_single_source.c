@@ -11,7 +11,9 @@
  *    the same triangle, bit-identical t, the same occlusion and the same
  *    per-ray counts, so the GPU's code takes the same decisions;
  *  - the auto traversal's choice per ray origin (inside / outside / on the
- *    root box) against tt_accel_locate. */
+ *    root box) against tt_accel_locate.
+ * The R-tree in both layouts (the compact one with its stackless walk, the
+ * GPU's traversal for it). */
 #define TT_NO_SIMD 1
 
 #include <math.h>
@@ -121,8 +123,15 @@ static void rtree_pixel(const view_frame *v, const tt_accel *accel, uint32_t x, 
     float dist, dist_s;
     tt_ray_stats st_gpu;
     memset(&st_gpu, 0, sizeof st_gpu);
-    tt_gpu_rt_primary(&t->p, (int)eye_hint, &v->basis, x, y, &prim, &dist, NULL);
-    tt_gpu_rt_primary_stats(&t->p, (int)eye_hint, &v->basis, x, y, &prim_s, &dist_s, &st_gpu);
+    const int compact = t->layout == TT_RTREE_LAYOUT_COMPACT;
+    if (compact) {
+        tt_gpu_rtc_primary(&t->compact.c, &v->basis, x, y, &prim, &dist, NULL);
+        tt_gpu_rtc_primary_stats(&t->compact.c, &v->basis, x, y, &prim_s, &dist_s, &st_gpu);
+    } else {
+        tt_gpu_rt_primary(&t->p, (int)eye_hint, &v->basis, x, y, &prim, &dist, NULL);
+        tt_gpu_rt_primary_stats(&t->p, (int)eye_hint, &v->basis, x, y, &prim_s, &dist_s,
+                                &st_gpu);
+    }
     c->rays++;
     /* the library's CPU path and bruteforce on the same ray */
     tt_ray r;
@@ -153,10 +162,18 @@ static void rtree_pixel(const view_frame *v, const tt_accel *accel, uint32_t x, 
     tt_ray_stats sh_gpu, sh_cpu;
     memset(&sh_gpu, 0, sizeof sh_gpu);
     memset(&sh_cpu, 0, sizeof sh_cpu);
-    int occ = tt_gpu_rt_shadow(&t->p, trav, t->root_box, &v->basis, v->scene->tri,
-                               v->cam.light, v->eps, x, y, prim, dist, NULL);
-    int occ_s = tt_gpu_rt_shadow_stats(&t->p, trav, t->root_box, &v->basis, v->scene->tri,
+    int occ, occ_s;
+    if (compact) {
+        occ = tt_gpu_rtc_shadow(&t->compact.c, &v->basis, v->scene->tri, v->cam.light, v->eps, x,
+                                y, prim, dist, NULL);
+        occ_s = tt_gpu_rtc_shadow_stats(&t->compact.c, &v->basis, v->scene->tri, v->cam.light,
+                                        v->eps, x, y, prim, dist, &sh_gpu);
+    } else {
+        occ = tt_gpu_rt_shadow(&t->p, trav, t->root_box, &v->basis, v->scene->tri, v->cam.light,
+                               v->eps, x, y, prim, dist, NULL);
+        occ_s = tt_gpu_rt_shadow_stats(&t->p, trav, t->root_box, &v->basis, v->scene->tri,
                                        v->cam.light, v->eps, x, y, prim, dist, &sh_gpu);
+    }
     c->rays++;
     tt_ray s;
     CHECK(tt_shadow_ray(v->scene, &v->cam, &r, &h_gpu, &s) == 1);
@@ -193,7 +210,9 @@ static void rtree_pick(const tt_accel *accel)
     }
 }
 
-static void rtree_view(const view_frame *v, tt_rtree_traversal traversal,
+/* layout: the complete one, or the compact one (M = 8, its stackless
+ * traversal: what the GPU runs for it, and the CPU path the same code). */
+static void rtree_view(const view_frame *v, tt_rtree_traversal traversal, tt_rtree_layout layout,
                        const char *view)
 {
     static const char *const names[] = {"auto", "stackless", "ordered", "stack"};
@@ -201,10 +220,13 @@ static void rtree_view(const view_frame *v, tt_rtree_traversal traversal,
     tt_build_options_default(&o);
     o.accel = "rtree";
     o.rtree.traversal = traversal;
+    o.rtree.layout = layout;
+    if (layout == TT_RTREE_LAYOUT_COMPACT) o.rtree.m = 3, o.rtree.M = 8;
     tt_accel *accel = NULL;
     REQUIRE_OK(v->ctx, tt_accel_build(v->ctx, v->scene, &o, &accel));
     char what[128];
-    snprintf(what, sizeof what, "%s, rtree %s", view, names[traversal]);
+    snprintf(what, sizeof what, "%s, rtree %s%s", view, names[traversal],
+             layout == TT_RTREE_LAYOUT_COMPACT ? " compact" : "");
     counts c = {0, 0, 0, what};
     for (uint32_t y = 0; y < v->h; y++)
         for (uint32_t x = 0; x < v->w; x++) rtree_pixel(v, accel, x, y, &c);
@@ -212,7 +234,7 @@ static void rtree_view(const view_frame *v, tt_rtree_traversal traversal,
               c.rays);
     CHECK_MSG(c.bad_cpu == 0, "%s: %zu of %zu rays differ from the CPU path", what, c.bad_cpu,
               c.rays);
-    rtree_pick(accel);
+    if (layout == TT_RTREE_LAYOUT_COMPLETE) rtree_pick(accel);
     tt_accel_destroy(accel);
 }
 
@@ -328,9 +350,10 @@ static void check_view(tt_context *ctx, const char *file, const char *view, uint
         v.bf_hit[i].u = -1.0f; /* not traced yet */
         v.shadow_from[i].prim = TT_INVALID_ID;
     }
-    rtree_view(&v, TT_RTREE_AUTO, view);
-    rtree_view(&v, TT_RTREE_STACKLESS, view);
-    rtree_view(&v, TT_RTREE_ORDERED, view);
+    rtree_view(&v, TT_RTREE_AUTO, TT_RTREE_LAYOUT_COMPLETE, view);
+    rtree_view(&v, TT_RTREE_STACKLESS, TT_RTREE_LAYOUT_COMPLETE, view);
+    rtree_view(&v, TT_RTREE_ORDERED, TT_RTREE_LAYOUT_COMPLETE, view);
+    rtree_view(&v, TT_RTREE_STACKLESS, TT_RTREE_LAYOUT_COMPACT, view);
     kd_view(&v, TT_KD_SLTR, view);
     kd_view(&v, TT_KD_HTR, view);
     free(v.bf_hit);

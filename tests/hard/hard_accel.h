@@ -44,11 +44,12 @@ static inline void hard_push(hard_variant *v, size_t *n, const tt_build_options 
 
 /* The variants of structure `name`: for the R-tree every insertion strategy
  * x forced reinsert on/off x every traversal at (m, M) = (2, 4), every
- * strategy at (4, 16), (3, 8), the quadratic split, close reinsert, and each
- * bulk loader with every traversal at (2, 4) and at (3, 8), (4, 16); for the
- * kd-tree all three builders x every traversal x sparse boxes every 1 or 3
- * levels or none, every traversal with each ISA's kernels, plus the
- * shadow-caster hint; any other structure with its
+ * strategy at (4, 16), (3, 8), the quadratic split, close reinsert, each
+ * bulk loader with every traversal at (2, 4) and at (3, 8), (4, 16), the
+ * compact layout's traversals per ISA at M = 4, 8, 16 and with the bulk
+ * loaders; for the kd-tree all three builders x every traversal x sparse
+ * boxes every 1 or 3 levels or none, every traversal with each ISA's
+ * kernels, plus the shadow-caster hint; any other structure with its
  * defaults. */
 static inline size_t hard_variants(const char *name, hard_variant *v)
 {
@@ -108,6 +109,41 @@ static inline size_t hard_variants(const char *name, hard_variant *v)
                              builds[b], mm[q][0], mm[q][1], hard_rtree_traversal_names[t]);
                     hard_push(v, &n, &r, label);
                 }
+        /* the compact layout: its stack traversal on every ISA this CPU
+         * runs and its stackless traversal, M = 4, 8, 16 */
+        static const int cm[3][2] = {{2, 4}, {3, 8}, {4, 16}};
+        for (int k = 0; k < 3; k++) {
+            for (int isa = TT_ISA_SCALAR; isa <= TT_ISA_AVX512 + 1; isa++) {
+                const int stackless = isa == TT_ISA_AVX512 + 1;
+                if (!stackless && !tt_isa_supported((tt_isa)isa)) continue;
+                r = o;
+                r.rtree.layout = TT_RTREE_LAYOUT_COMPACT;
+                r.rtree.m = cm[k][0], r.rtree.M = cm[k][1];
+                r.rtree.traversal = stackless ? TT_RTREE_STACKLESS : TT_RTREE_STACK;
+                r.isa = stackless ? TT_ISA_SCALAR : (tt_isa)isa;
+                snprintf(label, sizeof label, "rtree compact m=%d M=%d traversal=%s isa=%s",
+                         cm[k][0], cm[k][1], stackless ? "stackless" : "stack",
+                         tt_isa_name(r.isa));
+                hard_push(v, &n, &r, label);
+            }
+        }
+        r = o;
+        r.rtree.layout = TT_RTREE_LAYOUT_COMPACT;
+        r.rtree.strategy = TT_RTREE_MIN_VOLUME;
+        r.rtree.reinsert = 0;
+        r.rtree.m = 2, r.rtree.M = 6;
+        hard_push(v, &n, &r, "rtree compact min-volume m=2 M=6 reinsert=0 traversal=auto");
+        /* the bulk loaders in the compact layout */
+        for (int b = TT_RTREE_BUILD_STR; b <= TT_RTREE_BUILD_SAH; b++) {
+            r = o;
+            r.rtree.build = (tt_rtree_build)b;
+            r.rtree.layout = TT_RTREE_LAYOUT_COMPACT;
+            r.rtree.m = b == TT_RTREE_BUILD_SAH ? 4 : 3, r.rtree.M = b == TT_RTREE_BUILD_SAH ? 16 : 8;
+            r.rtree.traversal = b == TT_RTREE_BUILD_HILBERT ? TT_RTREE_STACKLESS : TT_RTREE_AUTO;
+            snprintf(label, sizeof label, "rtree compact build=%s m=%d M=%d traversal=%s",
+                     builds[b], r.rtree.m, r.rtree.M, hard_rtree_traversal_names[r.rtree.traversal]);
+            hard_push(v, &n, &r, label);
+        }
     } else if (strcmp(name, "kdtree") == 0) {
         static const int dmins[3] = {1, 3, -1};
         static const char *const builders[3] = {"nlogn", "nlog2n", "binned"};

@@ -1,6 +1,8 @@
 /* The "rtree" structure: R*-tree-style insertion build (rtree_build.c),
  * packed into the complete M-ary level-order array (rtree_pack.c), traced
- * by the stackless, ordered or stack traversal (rtree_trace*.h). */
+ * by the stackless, ordered or stack traversal (rtree_trace*.h); or packed
+ * into the compact wide layout (rtc_pack.c), traced by its stack traversal
+ * per ISA or its stackless traversal (rtc_trace_*). */
 #include "accel/rtree/rtree.h"
 #include "accel/rtree/rtree_box.h"
 #include "accel/rtree/rtree_bulk.h"
@@ -30,6 +32,8 @@ static tt_status validate(tt_context *ctx, const tt_rtree_options *o)
     if ((unsigned)o->traversal > TT_RTREE_STACK)
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "rtree: unknown traversal %d",
                         (int)o->traversal);
+    if ((unsigned)o->layout > TT_RTREE_LAYOUT_COMPACT)
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "rtree: unknown layout %d", (int)o->layout);
     if (o->M < 4 || o->M > TT_RT_MAX_M)
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT,
                         "rtree: M = %d is out of range (4 <= M <= %d)", o->M, TT_RT_MAX_M);
@@ -76,6 +80,8 @@ static tt_status rtree_build(tt_accel *a)
     a->impl = t;
     t->m = o->m;
     t->traversal = o->traversal;
+    t->layout = o->layout;
+    t->compact.m = o->m;
 
     double t0 = tt_now();
     float *tri_box = tt_alloc_array(a->ctx, T ? T : 1, 6 * sizeof(float));
@@ -98,7 +104,12 @@ static tt_status rtree_build(tt_accel *a)
         st = rt_bulk_build(&b, a->ctx, o, tri_box, T);
     }
     double t1 = tt_now();
-    if (st == TT_OK) st = rt_pack(a->ctx, &b, scene->tri, t);
+    if (st == TT_OK && t->layout == TT_RTREE_LAYOUT_COMPACT) {
+        st = rtc_pack(a->ctx, &b, scene->tri, &t->compact);
+        rtc_select(&t->compact, (int)o->traversal, a->isa);
+    } else if (st == TT_OK) {
+        st = rt_pack(a->ctx, &b, scene->tri, t);
+    }
     double t2 = tt_now();
     rt_builder_free(&b);
     tt_free(a->ctx, tri_box);
@@ -111,6 +122,8 @@ static tt_status rtree_build(tt_accel *a)
 
 uint32_t rt_locate(const rt_tree *t, const float *p)
 {
+    if (t->layout == TT_RTREE_LAYOUT_COMPACT) /* one traversal for every ray */
+        return t->traversal == TT_RTREE_STACKLESS ? TT_RTREE_STACKLESS : TT_RTREE_STACK;
     if (t->traversal != TT_RTREE_AUTO) return (uint32_t)t->traversal;
     const float *b = t->root_box;
     int inside = p[0] >= b[0] && p[0] <= b[3] && p[1] >= b[1] && p[1] <= b[4] && p[2] >= b[2] &&
@@ -134,12 +147,18 @@ static int pick(const rt_tree *t, const tt_wray *r, tt_trace_args *args)
 static void rtree_intersect(const tt_accel *a, const tt_wray *r, tt_hit *hit, tt_trace_args *args)
 {
     const rt_tree *t = a->impl;
+    if (t->layout == TT_RTREE_LAYOUT_COMPACT) {
+        t->compact.trace(&t->compact.c, r, 0, hit, NULL);
+        return;
+    }
     tt_rt_trace(&t->p, pick(t, r, args), r, 0, hit, NULL);
 }
 
 static int rtree_occluded(const tt_accel *a, const tt_wray *r, tt_trace_args *args)
 {
     const rt_tree *t = a->impl;
+    if (t->layout == TT_RTREE_LAYOUT_COMPACT)
+        return t->compact.trace(&t->compact.c, r, 1, NULL, NULL);
     return tt_rt_trace(&t->p, pick(t, r, args), r, 1, NULL, NULL);
 }
 
@@ -147,6 +166,10 @@ static void rtree_intersect_stats(const tt_accel *a, const tt_wray *r, tt_hit *h
                                   tt_trace_args *args, tt_ray_stats *stats)
 {
     const rt_tree *t = a->impl;
+    if (t->layout == TT_RTREE_LAYOUT_COMPACT) {
+        t->compact.trace_stats(&t->compact.c, r, 0, hit, stats);
+        return;
+    }
     tt_rt_trace_stats(&t->p, pick(t, r, args), r, 0, hit, stats);
 }
 
@@ -154,19 +177,37 @@ static int rtree_occluded_stats(const tt_accel *a, const tt_wray *r, tt_trace_ar
                                 tt_ray_stats *stats)
 {
     const rt_tree *t = a->impl;
+    if (t->layout == TT_RTREE_LAYOUT_COMPACT)
+        return t->compact.trace_stats(&t->compact.c, r, 1, NULL, stats);
     return tt_rt_trace_stats(&t->p, pick(t, r, args), r, 1, NULL, stats);
 }
 
 static uint32_t rtree_locate(const tt_accel *a, const float *p) { return rt_locate(a->impl, p); }
 
-static tt_status rtree_check(const tt_accel *a) { return rt_check(a->ctx, a->impl, a->scene); }
+static tt_status rtree_check(const tt_accel *a)
+{
+    const rt_tree *t = a->impl;
+    if (t->layout == TT_RTREE_LAYOUT_COMPACT) return rtc_check(a->ctx, &t->compact, a->scene);
+    return rt_check(a->ctx, t, a->scene);
+}
 
 static void rtree_statistics(const tt_accel *a, tt_stat_fn fn, void *user)
 {
-    rt_statistics(a->impl, fn, user);
+    const rt_tree *t = a->impl;
+    if (t->layout == TT_RTREE_LAYOUT_COMPACT) {
+        rtc_statistics(&t->compact, fn, user);
+        fn(user, "insert_s", t->insert_s);
+        fn(user, "pack_s", t->pack_s);
+        return;
+    }
+    rt_statistics(t, fn, user);
 }
 
-static size_t rtree_memory(const tt_accel *a) { return rt_tree_bytes(a->impl); }
+static size_t rtree_memory(const tt_accel *a)
+{
+    const rt_tree *t = a->impl;
+    return t->layout == TT_RTREE_LAYOUT_COMPACT ? rtc_bytes(&t->compact) : rt_tree_bytes(t);
+}
 
 const tt_accel_vtable tt_rtree_vtable = {
     .name = "rtree",

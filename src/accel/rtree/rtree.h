@@ -6,8 +6,14 @@
 #include "accel/accel.h"
 #include "accel/rtree/rtree_build.h"
 #include "accel/rtree/rtree_packed.h"
+#include "accel/rtree/rtc.h"
 
 typedef struct rt_tree {
+    /* TT_RTREE_LAYOUT_COMPACT: the tree is `compact` (rtc.h) and nothing
+     * below but the options and timings is used */
+    tt_rtree_layout layout;
+    rtc_tree compact;
+
     tt_rtree_packed p;
     /* owned arrays behind p */
     float *box;

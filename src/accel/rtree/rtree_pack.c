@@ -17,6 +17,7 @@ size_t rt_tree_bytes(const rt_tree *t)
 
 void rt_tree_free(tt_context *ctx, rt_tree *t)
 {
+    rtc_free(ctx, &t->compact);
     tt_free(ctx, t->box);
     tt_free(ctx, t->count);
     tt_free(ctx, t->leaf_start);

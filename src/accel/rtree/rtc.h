@@ -1,0 +1,62 @@
+/* The R-tree's compact layout on the CPU (rtc_layout.h is the part shared
+ * with the GPU): the owned arrays, the packer from the builder's pointer
+ * tree, the check, the statistics, and the traversal entry points of each
+ * ISA unit. The traversal is chosen once when the tree is built (ISA and
+ * traversal option) and kept as function pointers; nothing is dispatched
+ * per ray. */
+#ifndef TT_ACCEL_RTREE_RTC_H
+#define TT_ACCEL_RTREE_RTC_H
+
+#include "accel/rtree/rtc_layout.h"
+#include "accel/rtree/rtree_build.h"
+#include "core/context.h"
+#include "io/scene.h"
+
+/* A traversal: closest hit into *hit (any = 0) or occlusion (any = 1);
+ * returns whether something was hit. The _stats forms add to *stats. */
+typedef int (*tt_rtc_trace_fn)(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,
+                               tt_ray_stats *stats);
+
+typedef struct rtc_tree {
+    tt_rtc c;
+    void *node_mem, *block_mem; /* the allocations behind c.node, c.block */
+    int m;                      /* the fill minimum the check enforces */
+    tt_rtc_trace_fn trace, trace_stats;
+} rtc_tree;
+
+/* Packs the finished pointer tree (any builder's) into t; on error t holds
+ * what was allocated, for rtc_free. */
+tt_status rtc_pack(tt_context *ctx, const rt_builder *b, const float *scene_tri, rtc_tree *t);
+void rtc_free(tt_context *ctx, rtc_tree *t);
+size_t rtc_bytes(const rtc_tree *t);
+
+/* The traversal functions for option `traversal` (tt_rtree_traversal) on
+ * ISA `isa` (resolved, not TT_ISA_AUTO). */
+void rtc_select(rtc_tree *t, int traversal, tt_isa isa);
+
+tt_status rtc_check(tt_context *ctx, const rtc_tree *t, const tt_scene *scene);
+void rtc_statistics(const rtc_tree *t, tt_stat_fn fn, void *user);
+
+/* The entry points of the traversal units. */
+int tt_rtc_stackless_scalar(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,
+                            tt_ray_stats *stats);
+int tt_rtc_stackless_scalar_stats(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,
+                                  tt_ray_stats *stats);
+#define TT_RTC_DECLARE_STACK(isa)                                                                 \
+    int tt_rtc_stack_##isa(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,               \
+                           tt_ray_stats *stats);                                                  \
+    int tt_rtc_stack_##isa##_stats(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,       \
+                                   tt_ray_stats *stats);
+TT_RTC_DECLARE_STACK(scalar)
+#ifdef TT_HAVE_X86_KERNELS
+TT_RTC_DECLARE_STACK(sse42)
+TT_RTC_DECLARE_STACK(avx2)
+TT_RTC_DECLARE_STACK(avx512)
+#endif
+
+/* For the units: RTC_FN(name) appends the unit's RTC_ISA suffix. */
+#define RTC_CAT2(a, b) a##b
+#define RTC_CAT(a, b) RTC_CAT2(a, b)
+#define RTC_FN(name) RTC_CAT(name, RTC_ISA)
+
+#endif

@@ -1,0 +1,62 @@
+/* Statistics of the compact layout, read back from the arrays: node and
+ * leaf counts, fill per level, bytes per triangle and how full the triangle
+ * blocks are (the lanes a leaf leaves unused cost memory and SIMD work). */
+#include <stdio.h>
+#include <string.h>
+
+#include "accel/rtree/rtc.h"
+
+typedef struct acc {
+    double records, leaves, leaf_triangles, level_nodes[256], level_entries[256];
+} acc;
+
+static void visit(const tt_rtc *c, acc *a, uint32_t n)
+{
+    const float *rec = tt_rtc_node(c, n);
+    const uint32_t cnt = tt_rtc_count(c, rec), l = tt_rtc_level(c, rec);
+    const uint32_t *ref = tt_rtc_child(c, rec);
+    a->records += 1.0;
+    a->level_nodes[l] += 1.0;
+    a->level_entries[l] += cnt;
+    for (uint32_t i = 0; i < cnt; i++) {
+        if (l > 1) {
+            visit(c, a, ref[i]);
+            continue;
+        }
+        const uint32_t cnt_leaf = tt_rtc_leaf_count(ref[i]);
+        a->leaves += 1.0;
+        a->level_nodes[0] += 1.0;
+        a->leaf_triangles += cnt_leaf;
+        a->level_entries[0] += cnt_leaf;
+    }
+}
+
+void rtc_statistics(const rtc_tree *t, tt_stat_fn fn, void *user)
+{
+    const tt_rtc *c = &t->c;
+    acc a;
+    acc *ap = &a;
+    memset(ap, 0, sizeof *ap);
+    visit(c, ap, 0);
+    const double bytes = (double)rtc_bytes(t);
+    fn(user, "layout_compact", 1.0);
+    fn(user, "triangles", c->triangles);
+    fn(user, "M", c->M);
+    fn(user, "m", t->m);
+    fn(user, "height", c->height + 1);
+    fn(user, "nodes", ap->records + ap->leaves);
+    fn(user, "interior_nodes", ap->records);
+    fn(user, "leaves", ap->leaves);
+    fn(user, "triangle_blocks", c->blocks);
+    fn(user, "node_bytes", (double)c->words * 4.0);
+    fn(user, "memory_bytes", bytes);
+    fn(user, "bytes_per_triangle", c->triangles ? bytes / c->triangles : 0.0);
+    fn(user, "block_fill", c->blocks ? ap->leaf_triangles / (c->blocks * TT_TRI_BLOCK_W) : 0.0);
+    for (uint32_t l = 0; l <= c->height; l++) {
+        char key[64];
+        snprintf(key, sizeof key, "level%u_nodes", l);
+        fn(user, key, ap->level_nodes[l]);
+        snprintf(key, sizeof key, "level%u_fill", l);
+        fn(user, key, ap->level_nodes[l] > 0 ? ap->level_entries[l] / ap->level_nodes[l] : 0.0);
+    }
+}
