@@ -82,6 +82,9 @@ static int parse_kdtree(cli_args *a, cli_accel_args *x, const char *opt, const c
         if (strcmp(v, "none") == 0) {
             kd->dmin = -1;
             st = CLI_OK;
+        } else if (strcmp(v, "auto") == 0) {
+            kd->dmin = 0;
+            st = CLI_OK;
         } else {
             st = cli_parse_int(cmd, opt, v, 1, 64, &kd->dmin);
         }
@@ -198,17 +201,18 @@ int cli_accel_args_finish(const char *cmd, cli_accel_args *x)
                                "option --shadow-hint caster needs --traversal btr, sltr or seq "
                                "(htr starts every ray at the root)");
     const tt_rtree_options *r = &x->build.rtree;
-    if (rtree && 2 * r->m > r->M)
+    const int M = tt_rtree_max_entries(r);
+    if (rtree && 2 * r->m > M)
         return cli_usage_error(cmd, "options --m %d and --M %d: the R-tree needs 2 <= m <= M/2",
-                               r->m, r->M);
+                               r->m, M);
     if (rtree && r->build != TT_RTREE_BUILD_INSERT && x->insert_opt)
         return cli_usage_error(cmd, "option %s applies to --build insert, not %s", x->insert_opt,
                                rtree_builds[r->build]);
-    if (rtree && r->reinsert_fraction * (float)(r->M + 1) < 1.0f)
+    if (rtree && r->reinsert_fraction * (float)(M + 1) < 1.0f)
         return cli_usage_error(cmd,
                                "option --reinsert-fraction %g: with --M %d it reinserts less than "
                                "one entry (needs fraction * (M + 1) >= 1)",
-                               r->reinsert_fraction, r->M);
+                               r->reinsert_fraction, M);
     return CLI_OK;
 }
 
@@ -220,7 +224,7 @@ void cli_accel_args_emit(cli_emit *e, const tt_build_options *b)
         emit_str(e, "build", rtree_builds[r->build]);
         emit_str(e, "layout", rtree_layouts[r->layout]);
         emit_int(e, "m", r->m);
-        emit_int(e, "M", r->M);
+        emit_int(e, "M", tt_rtree_max_entries(r));
         if (r->build == TT_RTREE_BUILD_INSERT) { /* the others do not use these */
             emit_str(e, "strategy", strategies[r->strategy]);
             emit_str(e, "reinsert", on_off[r->reinsert != 0]);
@@ -232,7 +236,8 @@ void cli_accel_args_emit(cli_emit *e, const tt_build_options *b)
     } else if (strcmp(b->accel, "kdtree") == 0) {
         const tt_kdtree_options *kd = &b->kdtree;
         emit_str(e, "kd_build", kd_builders[kd->builder]);
-        if (kd->dmin < 0) emit_str(e, "dmin", "none");
+        if (kd->dmin == 0 && kd->traversal != TT_KD_HTR) emit_int(e, "dmin", TT_KD_DMIN_BOXES);
+        else if (kd->dmin <= 0) emit_str(e, "dmin", "none");
         else emit_int(e, "dmin", kd->dmin);
         emit_num(e, "ct", kd->cost_traversal);
         emit_num(e, "ci", kd->cost_intersect);
@@ -258,7 +263,7 @@ void cli_accel_args_help(FILE *out)
             "  --embree-quality high|medium|low  BVH build quality (default high, as the\n"
             "                           papers' tables compare; medium is Embree's usual)\n"
             "R-tree (--accel rtree):\n"
-            "  --build NAME             insert|str|hilbert|sah (default insert): insertion\n"
+            "  --build NAME             insert|str|hilbert|sah (default sah): insertion\n"
             "                           (Feldmann 2015) or a bulk loader for static scenes:\n"
             "                           STR tiles, Hilbert-curve order, or top-down by the\n"
             "                           surface area heuristic; the options below down to\n"
@@ -268,11 +273,12 @@ void cli_accel_args_help(FILE *out)
             "                           real nodes only, child boxes tested by SIMD (--isa),\n"
             "                           triangles in 8-wide blocks; its traversals: stack\n"
             "                           (= auto = ordered: near-to-far) or stackless (the\n"
-            "                           GPU's) (default complete)\n"
+            "                           GPU's) (default compact)\n"
             "  --strategy NAME          min-volume|min-surface|min-overlap|rstar|rstar-surface\n"
             "                           (default rstar-surface)\n"
             "  --m N, --M N             minimum and maximum entries a node, 2 <= m <= M/2,\n"
-            "                           M <= 16 (default 2, 4)\n"
+            "                           M <= 16 (default m 2; M 16 in the compact layout,\n"
+            "                           4 in the complete one, Feldmann's)\n"
             "  --reinsert on|off        R* forced reinsertion (default on)\n"
             "  --reinsert-fraction F    fraction of M+1 entries reinserted, in (0, 1) (default 0.3)\n"
             "  --reinsert-mode far|close  reinsert the farthest or closest first (default far)\n"
@@ -281,7 +287,8 @@ void cli_accel_args_help(FILE *out)
             "  --kd-build nlogn|nlog2n|binned  SAH builder: exact (O(N log N) or O(N log^2 N),\n"
             "                           the same tree) or binned (approximate, faster); all\n"
             "                           build in parallel with the threads (default nlogn)\n"
-            "  --dmin N|none            sparse boxes every N levels, or none (default 4)\n"
+            "  --dmin N|none|auto       sparse boxes every N levels, or none (default auto:\n"
+            "                           none for htr, which reads no boxes, else 4)\n"
             "  --ct F, --ci F           SAH traversal and intersection costs (default 1, 1.5)\n"
             "  --empty-bonus F          SAH bonus for cutting off empty space, in [0, 1):\n"
             "                           such a split costs (1 - F) x (default 0.2)\n"

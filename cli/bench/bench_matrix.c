@@ -79,6 +79,8 @@ tt_build_options bench_rtree_build(tt_rtree_strategy s, int reinsert, tt_rtree_t
      * built by insertion, packed into the complete level-order layout. */
     b.rtree.build = TT_RTREE_BUILD_INSERT;
     b.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
+    b.rtree.m = 2;
+    b.rtree.M = 4;
     b.rtree.strategy = s;
     b.rtree.reinsert = reinsert;
     b.rtree.traversal = t;
@@ -135,6 +137,9 @@ const bench_engine_config *bench_engine_configs(size_t *count)
             b.accel = "rtree";
             b.rtree.build = rt[i].build;
             b.rtree.layout = rt[i].layout;
+            /* resolved as the library resolves M = 0, so that a run equal
+             * to another table's is made once */
+            b.rtree.M = tt_rtree_max_entries(&b.rtree);
             engine_add(rt[i].label, b);
         }
         static const struct {
@@ -146,6 +151,7 @@ const bench_engine_config *bench_engine_configs(size_t *count)
             b.accel = "kdtree";
             b.kdtree.builder = kd[i].builder;
             b.kdtree.traversal = TT_KD_HTR;
+            b.kdtree.dmin = -1; /* what d_min = 0 (auto) gives htr */
             engine_add(kd[i].label, b);
         }
     }
@@ -305,7 +311,7 @@ int bench_matrix_make(const bench_options *o, const bench_scene_list *scenes, be
     for (c.scene = 0; c.scene < scenes->count; c.scene++) {
         for (c.view = 0; c.view < scenes->items[c.scene].view_count; c.view++) {
             feldmann(&c, o);
-            havran(&c, o, def.kdtree.dmin);
+            havran(&c, o, TT_KD_DMIN_BOXES);
             engine(&c, o);
         }
     }

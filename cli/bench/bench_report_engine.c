@@ -32,7 +32,9 @@ static int is_default(const tt_build_options *b)
     tt_build_options d;
     tt_build_options_default(&d);
     d.accel = b->accel;
-    if (strcmp(b->accel, "kdtree") == 0) d.kdtree.traversal = b->kdtree.traversal;
+    /* the defaults as the library resolves them (M = 0, d_min = 0: auto) */
+    d.rtree.M = tt_rtree_max_entries(&d.rtree);
+    if (d.kdtree.dmin == 0) d.kdtree.dmin = d.kdtree.traversal == TT_KD_HTR ? -1 : TT_KD_DMIN_BOXES;
     return strcmp(b->accel, "embree") != 0 && bench_same_build(b, &d);
 }
 

@@ -38,7 +38,7 @@ static void num_cell(FILE *f, double v, const char *fmt)
     fputs(" |", f);
 }
 
-static void table1(const bench_report *rp, tt_build_options def)
+static void table1(const bench_report *rp)
 {
     FILE *f = rp->f;
     static const tt_kd_traversal tr[4] = {TT_KD_HTR, TT_KD_BTR, TT_KD_SLTR, TT_KD_SEQ};
@@ -46,18 +46,18 @@ static void table1(const bench_report *rp, tt_build_options def)
     fprintf(f,
             "SAH kd-trees (O(n log n) build) at %ux%u, primary rays only. HTR and SEQ run "
             "on a tree without sparse boxes, BTR and SLTR with boxes every d_min = %d levels "
-            "(the library's default). Nodes: the kd-tree's nodes; N_B: sparse boxes; M_KD: the "
+            "(the library's default for traversals that read boxes). Nodes: the kd-tree's nodes; N_B: sparse boxes; M_KD: the "
             "structure's memory; "
             "r_ITM, N_L, N_I: ray-triangle tests, leaves and interior nodes per ray; T_R: "
             "median time per frame.\n\n",
-            rp->o->kd_size.width, rp->o->kd_size.height, def.kdtree.dmin);
+            rp->o->kd_size.width, rp->o->kd_size.height, TT_KD_DMIN_BOXES);
     fprintf(f, "| scene | view | method | nodes | N_B | M_KD [MB] | r_ITM | N_L | N_I | T_R [s] "
                "| x Embree |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (size_t s = 0; s < rp->s->count; s++) {
         const bench_scene *sc = &rp->s->items[s];
         for (size_t v = 0; v < sc->view_count; v++) {
             for (int i = 0; i < 4; i++) {
-                int dmin = (tr[i] == TT_KD_BTR || tr[i] == TT_KD_SLTR) ? def.kdtree.dmin : -1;
+                int dmin = (tr[i] == TT_KD_BTR || tr[i] == TT_KD_SLTR) ? TT_KD_DMIN_BOXES : -1;
                 const bench_result *r = find_kd(rp, s, v, dmin, tr[i]);
                 fprintf(f, "| %s | %s | %s |", sc->name, sc->views[v].name,
                         bench_kd_traversal_name(tr[i]));
@@ -175,10 +175,8 @@ void bench_report_havran(const bench_report *rp)
 {
     unsigned t = rp->o->tables;
     if (!(t & (BENCH_H1 | BENCH_H3))) return;
-    tt_build_options def;
-    tt_build_options_default(&def);
     fprintf(rp->f, "## Havran & Bittner 2007: kd-trees with sparse boxes\n\n");
-    if (t & BENCH_H1) table1(rp, def);
+    if (t & BENCH_H1) table1(rp);
     if (t & BENCH_H3) {
         fprintf(rp->f, "### %s\n\n", bench_table_title(BENCH_H3));
         fprintf(rp->f,

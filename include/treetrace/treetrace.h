@@ -185,10 +185,11 @@ typedef enum tt_rtree_layout {
 } tt_rtree_layout;
 
 typedef struct tt_rtree_options {
-    tt_rtree_build build;       /* default TT_RTREE_BUILD_INSERT               */
-    tt_rtree_layout layout;     /* default TT_RTREE_LAYOUT_COMPLETE            */
+    tt_rtree_build build;       /* default TT_RTREE_BUILD_SAH                  */
+    tt_rtree_layout layout;     /* default TT_RTREE_LAYOUT_COMPACT             */
     tt_rtree_strategy strategy; /* default TT_RTREE_RSTAR_SURFACE              */
-    int m, M;                   /* default 2, 4; 2 <= m <= M/2, M <= 16        */
+    int m, M;                   /* default 2, 0; 2 <= m <= M/2, 4 <= M <= 16;  */
+                                /* M = 0: tt_rtree_max_entries's choice       */
     int reinsert;               /* forced reinsert, default 1                  */
     float reinsert_fraction;    /* p = fraction * (M+1), >= 1; default 0.3     */
     int reinsert_far;           /* 1: far reinsert (default), 0: close         */
@@ -198,6 +199,11 @@ typedef struct tt_rtree_options {
 
 /* The exact SAH builders (Wald & Havran 2006) give the identical tree;
  * TT_KD_BINNED approximates the SAH with binned candidates (faster build). */
+/* The R-tree's M for these options: M itself, or for M = 0 (the default)
+ * 16 in the compact layout (the fastest measured with the SAH loader) and 4,
+ * Feldmann's, in the complete one (whose size grows as M^height). */
+int tt_rtree_max_entries(const tt_rtree_options *options);
+
 typedef enum tt_kd_builder { TT_KD_NLOGN = 0, TT_KD_NLOG2N, TT_KD_BINNED } tt_kd_builder;
 
 typedef enum tt_kd_traversal {
@@ -207,10 +213,15 @@ typedef enum tt_kd_traversal {
     TT_KD_SEQ      /* Kaplan's sequential point location                      */
 } tt_kd_traversal;
 
+/* Havran & Bittner's d_min, what dmin = 0 gives traversals that use boxes. */
+#define TT_KD_DMIN_BOXES 4
+
 typedef struct tt_kdtree_options {
     tt_kd_builder builder;  /* default TT_KD_NLOGN                             */
     int dmin;               /* >= 1: a sparse box every dmin levels; < 0: only */
-                            /* the root's box; 0 is refused; default 4        */
+                            /* the root's box; 0 (default): auto, none for    */
+                            /* htr (it reads no boxes), TT_KD_DMIN_BOXES for  */
+                            /* the others; resolved in the built accel        */
     float cost_traversal;   /* SAH C_T, default 1                              */
     float cost_intersect;   /* SAH C_I, default 1.5                            */
     float empty_bonus;      /* in [0, 1): a split with an empty side costs    */

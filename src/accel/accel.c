@@ -37,18 +37,20 @@ void tt_build_options_default(tt_build_options *o)
     memset(o, 0, sizeof *o);
     o->accel = "rtree";
     o->isa = TT_ISA_AUTO;
-    o->rtree.build = TT_RTREE_BUILD_INSERT;
-    o->rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
+    /* The engine: bulk-loaded by the SAH into the compact layout. Feldmann's
+     * configuration is build = INSERT, layout = COMPLETE, M = 4. */
+    o->rtree.build = TT_RTREE_BUILD_SAH;
+    o->rtree.layout = TT_RTREE_LAYOUT_COMPACT;
     o->rtree.strategy = TT_RTREE_RSTAR_SURFACE;
     o->rtree.m = 2;
-    o->rtree.M = 4;
+    o->rtree.M = 0; /* tt_rtree_max_entries */
     o->rtree.reinsert = 1;
     o->rtree.reinsert_fraction = 0.3f;
     o->rtree.reinsert_far = 1;
     o->rtree.split = TT_RTREE_SPLIT_RSTAR;
     o->rtree.traversal = TT_RTREE_AUTO;
     o->kdtree.builder = TT_KD_NLOGN;
-    o->kdtree.dmin = 4;
+    o->kdtree.dmin = 0; /* auto: see tt_kdtree_options */
     o->kdtree.cost_traversal = 1.0f;
     o->kdtree.cost_intersect = 1.5f;
     o->kdtree.empty_bonus = 0.2f; /* cost factor 0.8: Wald & Havran's lambda */

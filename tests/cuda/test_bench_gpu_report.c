@@ -281,7 +281,7 @@ static void test_outputs(tt_context *ctx, const bench_scene_list *sl, const benc
     tt_build_options_default(&def);
     cell_of(m, bench_kdtree_build(TT_KD_NLOGN, -1, TT_KD_HTR), BENCH_PRIMARY, sz, TT_DEVICE_GPU,
             a, sizeof a);
-    cell_of(m, bench_kdtree_build(TT_KD_NLOGN, def.kdtree.dmin, TT_KD_SLTR), BENCH_PRIMARY, sz,
+    cell_of(m, bench_kdtree_build(TT_KD_NLOGN, TT_KD_DMIN_BOXES, TT_KD_SLTR), BENCH_PRIMARY, sz,
             TT_DEVICE_GPU, e, sizeof e);
     snprintf(want, sizeof want, "| bunny | main | %s | %s |", a, e);
     CHECK_MSG(strstr(text, want), "report lacks the GPU kd-tree row '%s'", want);

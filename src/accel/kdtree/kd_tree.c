@@ -13,9 +13,10 @@ static tt_status validate(tt_context *ctx, const tt_kdtree_options *o)
                         "kdtree: builder %d is not TT_KD_NLOGN (0), TT_KD_NLOG2N (1) or "
                         "TT_KD_BINNED (2)",
                         (int)o->builder);
-    if (o->dmin == 0)
+    if (o->dmin == 0) /* tt_accel_build resolves auto before this */
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT,
-                        "kdtree: dmin 0 is not allowed (>= 1: a box every dmin levels; < 0: no boxes)");
+                        "kdtree: dmin 0 (auto) was not resolved (>= 1: a box every dmin levels; "
+                        "< 0: no boxes)");
     if (!(isfinite(o->cost_traversal) && o->cost_traversal > 0.0f))
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "kdtree: cost_traversal %g must be finite and > 0",
                         (double)o->cost_traversal);

@@ -1,16 +1,33 @@
 /* Statistics of the compact layout, read back from the arrays: node and
  * leaf counts, fill per level, bytes per triangle and how full the triangle
- * blocks are (the lanes a leaf leaves unused cost memory and SIMD work). */
+ * blocks are (the lanes a leaf leaves unused cost memory and SIMD work),
+ * and the tree-quality figures of rtree_stats.c, defined the same way
+ * (sah_cost, sah_cost_boxes, leaf_fill, interior_fill), so the builders
+ * compare in either layout. */
 #include <stdio.h>
 #include <string.h>
 
 #include "accel/rtree/rtc.h"
+#include "accel/rtree/rtree_box.h"
 
 typedef struct acc {
     double records, leaves, leaf_triangles, level_nodes[256], level_entries[256];
+    double sah, sah_boxes, root_area;
 } acc;
 
-static void visit(const tt_rtc *c, acc *a, uint32_t n)
+/* Child i's box of record rec (SoA rows of stride S). */
+static void child_box(const tt_rtc *c, const float *rec, uint32_t i, float out[6])
+{
+    for (int k = 0; k < 6; k++) out[k] = rec[k * c->S + i];
+}
+
+/* The area of `box` relative to the root's, as rtree_stats.c weighs it. */
+static double rel_area(const acc *a, const float box[6])
+{
+    return a->root_area > 0.0 ? rt_box_area(box) / a->root_area : 1.0;
+}
+
+static void visit(const tt_rtc *c, acc *a, uint32_t n, const float box[6])
 {
     const float *rec = tt_rtc_node(c, n);
     const uint32_t cnt = tt_rtc_count(c, rec), l = tt_rtc_level(c, rec);
@@ -18,9 +35,13 @@ static void visit(const tt_rtc *c, acc *a, uint32_t n)
     a->records += 1.0;
     a->level_nodes[l] += 1.0;
     a->level_entries[l] += cnt;
+    a->sah += rel_area(a, box);
+    a->sah_boxes += rel_area(a, box) * cnt;
     for (uint32_t i = 0; i < cnt; i++) {
+        float cb[6];
+        child_box(c, rec, i, cb);
         if (l > 1) {
-            visit(c, a, ref[i]);
+            visit(c, a, ref[i], cb);
             continue;
         }
         const uint32_t cnt_leaf = tt_rtc_leaf_count(ref[i]);
@@ -28,6 +49,8 @@ static void visit(const tt_rtc *c, acc *a, uint32_t n)
         a->level_nodes[0] += 1.0;
         a->leaf_triangles += cnt_leaf;
         a->level_entries[0] += cnt_leaf;
+        a->sah += rel_area(a, cb) * cnt_leaf;
+        a->sah_boxes += rel_area(a, cb) * cnt_leaf;
     }
 }
 
@@ -37,7 +60,22 @@ void rtc_statistics(const rtc_tree *t, tt_stat_fn fn, void *user)
     acc a;
     acc *ap = &a;
     memset(ap, 0, sizeof *ap);
-    visit(c, ap, 0);
+    /* the root's box: the union of its children's */
+    const float *root = tt_rtc_node(c, 0);
+    float rb[6] = {0, 0, 0, 0, 0, 0};
+    const uint32_t rc = tt_rtc_count(c, root);
+    for (uint32_t i = 0; i < rc; i++) {
+        float cb[6];
+        child_box(c, root, i, cb);
+        for (int k = 0; k < 3; k++) {
+            rb[k] = i ? (cb[k] < rb[k] ? cb[k] : rb[k]) : cb[k];
+            rb[k + 3] = i ? (cb[k + 3] > rb[k + 3] ? cb[k + 3] : rb[k + 3]) : cb[k + 3];
+        }
+    }
+    ap->root_area = rc ? rt_box_area(rb) : 0.0;
+    visit(c, ap, 0, rb);
+    double interior_entries = 0.0;
+    for (uint32_t l = 1; l <= c->height && l < 256; l++) interior_entries += ap->level_entries[l];
     const double bytes = (double)rtc_bytes(t);
     fn(user, "layout_compact", 1.0);
     fn(user, "triangles", c->triangles);
@@ -51,6 +89,10 @@ void rtc_statistics(const rtc_tree *t, tt_stat_fn fn, void *user)
     fn(user, "node_bytes", (double)c->words * 4.0);
     fn(user, "memory_bytes", bytes);
     fn(user, "bytes_per_triangle", c->triangles ? bytes / c->triangles : 0.0);
+    fn(user, "leaf_fill", ap->leaves > 0 ? ap->leaf_triangles / ap->leaves : 0.0);
+    fn(user, "interior_fill", ap->records > 0 ? interior_entries / ap->records : 0.0);
+    fn(user, "sah_cost", rc ? ap->sah : 0.0);
+    fn(user, "sah_cost_boxes", rc ? ap->sah_boxes : 0.0);
     fn(user, "block_fill", c->blocks ? ap->leaf_triangles / (c->blocks * TT_TRI_BLOCK_W) : 0.0);
     for (uint32_t l = 0; l <= c->height; l++) {
         char key[64];

@@ -64,8 +64,18 @@ static void rtree_destroy(tt_accel *a)
     a->impl = NULL;
 }
 
+int tt_rtree_max_entries(const tt_rtree_options *o)
+{
+    if (!o) return 0;
+    if (o->M != 0) return o->M;
+    return o->layout == TT_RTREE_LAYOUT_COMPACT ? 16 : 4;
+}
+
 static tt_status rtree_build(tt_accel *a)
 {
+    /* M = 0 resolves here, so that everything after (and the accel's
+     * options as callers read them back) sees the M the tree has. */
+    a->options.rtree.M = tt_rtree_max_entries(&a->options.rtree);
     const tt_rtree_options *o = &a->options.rtree;
     tt_status st = validate(a->ctx, o);
     if (st != TT_OK) return st;

@@ -89,8 +89,14 @@ static void scene_views(tt_context *ctx, const char *file, const char *const *na
                         uint32_t w, uint32_t h)
 {
     tt_scene *scene = tt_test_load_scene(ctx, file);
-    /* the tree the measurement above used */
-    tt_accel *a = tt_test_build_default(ctx, scene, "kdtree");
+    /* the tree the measurement above used: sparse boxes every
+     * TT_KD_DMIN_BOXES levels, what the stackless traversals get by default */
+    tt_build_options o;
+    tt_build_options_default(&o);
+    o.accel = "kdtree";
+    o.kdtree.traversal = TT_KD_SLTR;
+    tt_accel *a = NULL;
+    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &o, &a));
     for (size_t i = 0; i < n; i++) view(ctx, scene, a, names[i], w, h);
     tt_accel_destroy(a);
     tt_scene_destroy(scene);

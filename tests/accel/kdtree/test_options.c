@@ -26,7 +26,6 @@ static void validation(const tt_scene *scene)
     tt_build_options_default(&d);
     d.accel = "kdtree";
     o = d, o.kdtree.builder = (tt_kd_builder)7, refused(scene, &o, "builder");
-    o = d, o.kdtree.dmin = 0, refused(scene, &o, "dmin");
     o = d, o.kdtree.cost_traversal = 0.0f, refused(scene, &o, "cost_traversal");
     o = d, o.kdtree.cost_traversal = NAN, refused(scene, &o, "cost_traversal");
     o = d, o.kdtree.cost_intersect = -1.0f, refused(scene, &o, "cost_intersect");

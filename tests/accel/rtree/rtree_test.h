@@ -17,11 +17,16 @@ typedef struct rt_mm {
 static const rt_mm rt_mm_list[] = {{2, 4}, {2, 6}, {3, 8}, {4, 16}};
 #define RT_MM_COUNT ((int)(sizeof rt_mm_list / sizeof rt_mm_list[0]))
 
+/* Feldmann's R-tree (insertion, the complete layout), which these programs
+ * test strategy by strategy; the engine's bulk loaders and compact layout
+ * have test_rtree_bulk* and test_rtree_compact*. */
 static tt_build_options rt_options(int strategy, int traversal, int m, int M)
 {
     tt_build_options o;
     tt_build_options_default(&o);
     o.accel = "rtree";
+    o.rtree.build = TT_RTREE_BUILD_INSERT;
+    o.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
     o.rtree.strategy = (tt_rtree_strategy)strategy;
     o.rtree.traversal = (tt_rtree_traversal)traversal;
     o.rtree.m = m;

@@ -240,6 +240,8 @@ int main(void)
     tt_scene *bunny = tt_test_load_scene(ctx, "bun_zipper.ply");
     tt_build_options o;
     tt_build_options_default(&o);
+    o.rtree.build = TT_RTREE_BUILD_INSERT; /* Feldmann's R-tree */
+    o.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
     tt_accel_destroy(rt_build_checked(ctx, bunny, &o));
     tt_scene_destroy(bunny);
     tt_scene_destroy(bunny4);

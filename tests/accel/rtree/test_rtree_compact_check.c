@@ -130,6 +130,7 @@ static void test_memory(tt_context *ctx, const tt_scene *scene)
     static const rt_mm mm[] = {{2, 4}, {3, 8}, {4, 16}};
     for (int k = 0; k < 3; k++) {
         tt_build_options o = compact(mm[k].m, mm[k].M);
+        o.rtree.build = TT_RTREE_BUILD_INSERT; /* the complete layout's worst case */
         tt_accel *a = rt_build_checked(ctx, scene, &o);
         o.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
         tt_accel *full = rt_build_checked(ctx, scene, &o);

@@ -91,6 +91,8 @@ static void all_configs(tt_context *ctx, const tt_scene *scene, const char *what
     tt_accel *bf = NULL;
     tt_build_options bo;
     tt_build_options_default(&bo);
+    bo.rtree.build = TT_RTREE_BUILD_INSERT; /* Feldmann's R-tree */
+    bo.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
     bo.accel = "bruteforce";
     REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &bf));
     for (int s = 0; s < 5; s++)

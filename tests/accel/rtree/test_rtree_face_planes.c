@@ -121,6 +121,8 @@ int main(void)
     {
         tt_build_options bo;
         tt_build_options_default(&bo);
+        bo.rtree.build = TT_RTREE_BUILD_INSERT; /* Feldmann's R-tree */
+        bo.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
         bo.accel = "bruteforce";
         tt_accel *bf = NULL;
         REQUIRE_OK(ctx, tt_accel_build(ctx, scenes[0], &bo, &bf));
@@ -146,6 +148,8 @@ int main(void)
     for (int s = 0; s < 2; s++) {
         tt_build_options bo;
         tt_build_options_default(&bo);
+        bo.rtree.build = TT_RTREE_BUILD_INSERT; /* Feldmann's R-tree */
+        bo.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
         bo.accel = "bruteforce";
         tt_accel *bf = NULL;
         REQUIRE_OK(ctx, tt_accel_build(ctx, scenes[s], &bo, &bf));

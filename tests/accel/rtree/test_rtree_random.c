@@ -17,6 +17,8 @@ static void random_matrix(tt_context *ctx, const char *file, uint32_t rays)
     tt_accel *bf = NULL;
     tt_build_options bo;
     tt_build_options_default(&bo);
+    bo.rtree.build = TT_RTREE_BUILD_INSERT; /* Feldmann's R-tree */
+    bo.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
     bo.accel = "bruteforce";
     REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &bf));
     /* every strategy x traversal; (m, M), split and reinsert rotate so
@@ -82,6 +84,8 @@ static void full_bunny(tt_context *ctx)
     tt_accel *bf = NULL;
     tt_build_options bo;
     tt_build_options_default(&bo);
+    bo.rtree.build = TT_RTREE_BUILD_INSERT; /* Feldmann's R-tree */
+    bo.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
     bo.accel = "bruteforce";
     REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &bf));
     for (int tr = 0; tr < 4; tr++) {

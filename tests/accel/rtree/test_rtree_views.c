@@ -32,6 +32,8 @@ static void view_cached(tt_context *ctx, const char *file, const char *view, uin
     tt_accel *bf = NULL;
     tt_build_options bo;
     tt_build_options_default(&bo);
+    bo.rtree.build = TT_RTREE_BUILD_INSERT; /* Feldmann's R-tree */
+    bo.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
     bo.accel = "bruteforce";
     REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &bf));
     tt_test_reference *ref = tt_test_reference_view(scene, bf, &cam, size, size);
@@ -60,6 +62,8 @@ static void view_options(tt_context *ctx, const char *file, const char *view, ui
     tt_accel *bf = NULL;
     tt_build_options bo;
     tt_build_options_default(&bo);
+    bo.rtree.build = TT_RTREE_BUILD_INSERT; /* Feldmann's R-tree */
+    bo.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
     bo.accel = "bruteforce";
     REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &bf));
     tt_test_reference *ref = tt_test_reference_view(scene, bf, &cam, size, size);
