@@ -7,13 +7,15 @@
  * callback), status codes on every call and a last-error message on the
  * context naming the cause. The library never prints, exits or aborts.
  *
- * Typical use:
+ * Typical use (examples/quickstart.c is this as a whole program, with its
+ * error handling; the tests build and run it):
  *   tt_context *ctx; tt_context_create(NULL, &ctx);
  *   tt_scene *scene; tt_scene_load(ctx, "bunny.ply", &scene);
  *   tt_build_options opt; tt_build_options_default(&opt); opt.accel = "rtree";
  *   tt_accel *acc; tt_accel_build(ctx, scene, &opt, &acc);
  *   tt_ray ray = {...}; tt_hit hit; tt_intersect1(acc, &ray, &hit);
  *   tt_accel_destroy(acc); tt_scene_destroy(scene); tt_context_destroy(ctx);
+ * Batches of rays: tt_intersect / tt_occluded (below).
  */
 #ifndef TREETRACE_H
 #define TREETRACE_H
