@@ -9,7 +9,7 @@
 #ifdef TT_HAVE_CUDA
 #include <pthread.h>
 
-#include "accel/kdtree/kdtree.h"
+#include "accel/kdtree/kd_tree.h"
 #include "accel/rtree/rtree.h"
 #include "cuda/gpu.h"
 #endif

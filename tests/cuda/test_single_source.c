@@ -22,7 +22,7 @@
 #include <string.h>
 
 #include "accel/accel.h"
-#include "accel/kdtree/kdtree.h"
+#include "accel/kdtree/kd_tree.h"
 #include "accel/rtree/rtree.h"
 #include "check.h"
 #include "compare.h"

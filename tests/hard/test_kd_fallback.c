@@ -12,7 +12,7 @@
  * happen; and on the far soup the production budget must keep the work per
  * ray bounded (it used to take thousands of re-descents a ray). */
 #include "accel/kdtree/kd_trace_cpu.h"
-#include "accel/kdtree/kdtree.h"
+#include "accel/kdtree/kd_tree.h"
 #include "hard_rays.h"
 
 static const unsigned budgets[] = {0u, 1u, 3u, 10u, 40u, TT_KD_SPARE};

@@ -11,7 +11,7 @@
 #include <stdint.h>
 
 #include "accel/kdtree/kd_events.h"
-#include "accel/kdtree/kdtree.h"
+#include "accel/kdtree/kd_tree.h"
 #include "geometry/aabb.h"
 
 enum { KD_SIDE_LEFT = 1, KD_SIDE_RIGHT = 2, KD_SIDE_BOTH = 3 };

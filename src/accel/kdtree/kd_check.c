@@ -18,7 +18,7 @@
 #include <string.h>
 
 #include "accel/kdtree/kd_clip.h"
-#include "accel/kdtree/kdtree.h"
+#include "accel/kdtree/kd_tree.h"
 #include "io/scene.h"
 
 typedef struct check {

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "accel/kdtree/kdtree.h"
+#include "accel/kdtree/kd_tree.h"
 #include "check.h"
 
 static inline tt_accel *kd_build_with(tt_context *ctx, const tt_scene *scene, tt_kd_builder builder,

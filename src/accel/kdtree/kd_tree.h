@@ -2,8 +2,8 @@
  * what the build decided (effective parameters) and measured (statistics).
  * Tests include this header to walk the tree directly (comparing the two
  * builders node by node, aiming rays at actual split planes). */
-#ifndef TT_ACCEL_KDTREE_KDTREE_H
-#define TT_ACCEL_KDTREE_KDTREE_H
+#ifndef TT_ACCEL_KDTREE_KD_TREE_H
+#define TT_ACCEL_KDTREE_KD_TREE_H
 
 #include <stddef.h>
 
@@ -33,7 +33,7 @@ typedef struct tt_kdtree {
     double sah_cost;   /* C_T sum SA(interior) + C_I sum n SA(leaf), / SA(root) */
 
     /* The fast traversal entry points of the accel's ISA, set by the
-     * structure once built (kdtree.c); scalar until then. */
+     * structure once built (kd_vtable.c); scalar until then. */
     tt_kd_kernels fast;
 } tt_kdtree;
 

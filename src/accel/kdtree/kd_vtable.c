@@ -1,6 +1,6 @@
 /* The kd-tree with sparse boxes (Havran & Bittner 2007) as a treetrace
  * structure: the dispatch table and its glue. */
-#include "accel/kdtree/kdtree.h"
+#include "accel/kdtree/kd_tree.h"
 
 #include "accel/kdtree/kd_trace_cpu.h"
 
