@@ -1,6 +1,7 @@
 /* report.md: the machine and the settings, agreement with Embree, then
  * every table of the two papers with our numbers and the papers' beside
  * them (bench_report_feldmann.c, bench_report_havran.c). */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -86,6 +87,17 @@ void bench_cell_ratio(FILE *f, const bench_result *a, const bench_result *b)
         fprintf(f, " %.2f |", bench_time_s(a) / bench_time_s(b));
     else
         fputs(" - |", f);
+}
+
+void bench_cell_num(FILE *f, double v, const char *fmt)
+{
+    if (isnan(v)) {
+        fputs(" - |", f);
+        return;
+    }
+    fputc(' ', f);
+    fprintf(f, fmt, v);
+    fputs(" |", f);
 }
 
 void bench_cell_paper(FILE *f, double v)

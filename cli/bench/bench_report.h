@@ -35,6 +35,8 @@ void bench_cell_build(FILE *f, const bench_result *r);
 void bench_cell_vs_embree(FILE *f, const bench_result *r);
 /* a / b as "1.23" when both results have times, else "-". */
 void bench_cell_ratio(FILE *f, const bench_result *a, const bench_result *b);
+/* v printed with fmt, "-" when v is NaN (no number). */
+void bench_cell_num(FILE *f, double v, const char *fmt);
 /* A paper's value ("1.95 s"), "-" when the paper has none. */
 void bench_cell_paper(FILE *f, double v);
 int bench_result_ok(const bench_result *r);

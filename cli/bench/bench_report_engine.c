@@ -10,17 +10,6 @@
 
 static double mrays(uint64_t rays, double s) { return s > 0.0 ? (double)rays / s * 1e-6 : NAN; }
 
-static void cell(FILE *f, double v, const char *fmt)
-{
-    if (isnan(v)) {
-        fputs(" - |", f);
-        return;
-    }
-    fputc(' ', f);
-    fprintf(f, fmt, v);
-    fputs(" |", f);
-}
-
 /* Always ours over Embree's; the report's text says which way is better. */
 static double ratio(double ours, double theirs)
 {
@@ -67,14 +56,14 @@ static void view_table(const bench_report *rp, size_t s, size_t v)
         const double sh = mrays(r->summary.shadow_rays, r->summary.shadow_s);
         const double mem = (double)r->memory_bytes;
         fprintf(f, " %s |", i ? tt_isa_name(r->isa) : "-");
-        cell(f, p, "%.2f");
-        cell(f, i ? ratio(p, ep) : 1.0, "%.2fx");
-        cell(f, sh, "%.2f");
-        cell(f, i ? ratio(sh, es) : 1.0, "%.2fx");
-        cell(f, r->build_s, "%.3f");
-        cell(f, i ? ratio(r->build_s, eb) : 1.0, "%.2fx");
-        cell(f, mem / 1048576.0, "%.1f");
-        cell(f, i ? ratio(mem, em) : 1.0, "%.2fx");
+        bench_cell_num(f, p, "%.2f");
+        bench_cell_num(f, i ? ratio(p, ep) : 1.0, "%.2fx");
+        bench_cell_num(f, sh, "%.2f");
+        bench_cell_num(f, i ? ratio(sh, es) : 1.0, "%.2fx");
+        bench_cell_num(f, r->build_s, "%.3f");
+        bench_cell_num(f, i ? ratio(r->build_s, eb) : 1.0, "%.2fx");
+        bench_cell_num(f, mem / 1048576.0, "%.1f");
+        bench_cell_num(f, i ? ratio(mem, em) : 1.0, "%.2fx");
         if (r->summary.has_stats && i) {
             const tt_ray_stats *ps = &r->summary.primary_stats;
             fprintf(f, " %.1f / %.1f / %.1f |\n", bench_per_ray(ps->nodes, ps->rays),

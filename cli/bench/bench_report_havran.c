@@ -27,17 +27,6 @@ static double per_ray(const bench_result *r, int which)
     return bench_per_ray(v, s->rays);
 }
 
-static void num_cell(FILE *f, double v, const char *fmt)
-{
-    if (isnan(v)) {
-        fputs(" - |", f);
-        return;
-    }
-    fputc(' ', f);
-    fprintf(f, fmt, v);
-    fputs(" |", f);
-}
-
 static void table1(const bench_report *rp)
 {
     FILE *f = rp->f;
@@ -62,12 +51,12 @@ static void table1(const bench_report *rp)
                 fprintf(f, "| %s | %s | %s |", sc->name, sc->views[v].name,
                         bench_kd_traversal_name(tr[i]));
                 int ok = bench_result_ok(r);
-                num_cell(f, ok && r->accel_stats.nodes >= 0 ? r->accel_stats.nodes : NAN, "%.0f");
-                num_cell(f, ok && r->accel_stats.boxes >= 0 ? r->accel_stats.boxes : NAN, "%.0f");
-                num_cell(f, ok ? (double)r->memory_bytes / 1048576.0 : NAN, "%.2f");
-                num_cell(f, per_ray(r, 0), "%.2f");
-                num_cell(f, per_ray(r, 1), "%.2f");
-                num_cell(f, per_ray(r, 2), "%.2f");
+                bench_cell_num(f, ok && r->accel_stats.nodes >= 0 ? r->accel_stats.nodes : NAN, "%.0f");
+                bench_cell_num(f, ok && r->accel_stats.boxes >= 0 ? r->accel_stats.boxes : NAN, "%.0f");
+                bench_cell_num(f, ok ? (double)r->memory_bytes / 1048576.0 : NAN, "%.2f");
+                bench_cell_num(f, per_ray(r, 0), "%.2f");
+                bench_cell_num(f, per_ray(r, 1), "%.2f");
+                bench_cell_num(f, per_ray(r, 2), "%.2f");
                 if (ok)
                     fprintf(f, " %#.3g |", bench_time_s(r));
                 else
@@ -77,7 +66,7 @@ static void table1(const bench_report *rp)
             }
             const bench_result *e = find_embree(rp, s, v);
             fprintf(f, "| %s | %s | Embree | - | - |", sc->name, sc->views[v].name);
-            num_cell(f, bench_result_ok(e) ? (double)e->memory_bytes / 1048576.0 : NAN, "%.2f");
+            bench_cell_num(f, bench_result_ok(e) ? (double)e->memory_bytes / 1048576.0 : NAN, "%.2f");
             fprintf(f, " - | - | - |");
             if (bench_result_ok(e))
                 fprintf(f, " %#.3g | 1.00x |\n", bench_time_s(e));
@@ -130,11 +119,11 @@ static void figure3_view(const bench_report *rp, size_t s, size_t v)
         tm[2][i] = bench_result_ok(htr) ? bench_time_s(htr) : NAN;
         tm[3][i] = bench_result_ok(emb) ? bench_time_s(emb) : NAN;
         fprintf(f, "| %d |", rp->o->dmins[i]);
-        num_cell(f, ni[0][i], "%.2f");
-        num_cell(f, ni[1][i], "%.2f");
-        num_cell(f, tm[0][i], "%#.3g");
-        num_cell(f, tm[1][i], "%#.3g");
-        num_cell(f, bench_result_ok(b) && b->accel_stats.boxes >= 0 ? b->accel_stats.boxes : NAN,
+        bench_cell_num(f, ni[0][i], "%.2f");
+        bench_cell_num(f, ni[1][i], "%.2f");
+        bench_cell_num(f, tm[0][i], "%#.3g");
+        bench_cell_num(f, tm[1][i], "%#.3g");
+        bench_cell_num(f, bench_result_ok(b) && b->accel_stats.boxes >= 0 ? b->accel_stats.boxes : NAN,
                  "%.0f");
         fprintf(f, "\n");
     }
