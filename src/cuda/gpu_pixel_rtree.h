@@ -13,7 +13,7 @@
 #ifndef TT_CUDA_GPU_PIXEL_RTREE_ONCE
 #define TT_CUDA_GPU_PIXEL_RTREE_ONCE
 /* The traversal of a ray from org: the forced one, or for TT_RTREE_AUTO the
- * choice of rt_locate (rtree.c): stackless when org is in the root box
+ * choice of rt_locate (rtree_vtable.c): stackless when org is in the root box
  * (closed), ordered outside. */
 TT_HD int tt_gpu_rt_pick(int traversal, const float *root_box, const float *org)
 {
