@@ -45,14 +45,23 @@ kd_split kd_binned_split(const kd_builder *b, const kd_item *items, uint32_t n, 
         lo[k] = cell->lo[k];
         scale[k] = ext[k] > 0.0 ? (float)(BINS / ext[k]) : 0.0f;
     }
-    for (uint32_t i = 0; i < n; i++)
+    /* The clamp is done in float, before the conversion (min/max
+     * instructions, no branches): the same bins as clamping the integer,
+     * since (int) truncates and BINS - 1 is exact in float. */
+    const float top = (float)(BINS - 1);
+    for (uint32_t i = 0; i < n; i++) {
+        const tt_aabb *box = &items[i].box;
         for (int k = 0; k < 3; k++) {
-            float f = (items[i].box.lo[k] - lo[k]) * scale[k];
-            float g = (items[i].box.hi[k] - lo[k]) * scale[k];
-            int s = f > 0.0f ? (int)f : 0, e = g > 0.0f ? (int)g : 0;
-            start[k][s < BINS ? s : BINS - 1]++;
-            end[k][e < BINS ? e : BINS - 1]++;
+            float f = (box->lo[k] - lo[k]) * scale[k];
+            float g = (box->hi[k] - lo[k]) * scale[k];
+            f = f > 0.0f ? f : 0.0f;
+            g = g > 0.0f ? g : 0.0f;
+            f = f < top ? f : top;
+            g = g < top ? g : top;
+            start[k][(int)f]++;
+            end[k][(int)g]++;
         }
+    }
     for (int axis = 0; axis < 3; axis++) {
         if (!(ext[axis] > 0.0)) continue;
         /* The boundary j lies between bins j - 1 and j: a triangle starting

@@ -55,10 +55,17 @@ static tt_status split_items(kd_builder *b, item *items, uint32_t n, const kd_sp
                              item **right, uint32_t *n_right)
 {
     uint32_t nl = 0, nr = 0;
-    for (uint32_t i = 0; i < n; i++) {
-        int side = kd_classify(items[i].box.lo[split->axis], items[i].box.hi[split->axis], split);
-        nl += (side & KD_SIDE_LEFT) != 0;
-        nr += (side & KD_SIDE_RIGHT) != 0;
+    if (loose) {
+        /* kd_binned_split counted these very sides (kd_classify on the
+         * same bounds): no second counting pass. */
+        nl = split->n_left;
+        nr = split->n_right;
+    } else {
+        for (uint32_t i = 0; i < n; i++) {
+            int side = kd_classify(items[i].box.lo[split->axis], items[i].box.hi[split->axis], split);
+            nl += (side & KD_SIDE_LEFT) != 0;
+            nr += (side & KD_SIDE_RIGHT) != 0;
+        }
     }
     item *l = tt_alloc_array(b->ctx, nl, sizeof *l);
     item *r = tt_alloc_array(b->ctx, nr, sizeof *r);
