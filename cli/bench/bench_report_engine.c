@@ -4,6 +4,7 @@
  * shadow rays apart, build time and memory, each with its ratio to Embree's
  * in the same run. The configurations are bench_engine_configs(). */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "bench/bench_report.h"
@@ -14,6 +15,19 @@ static double mrays(uint64_t rays, double s) { return s > 0.0 ? (double)rays / s
 static double ratio(double ours, double theirs)
 {
     return (isnan(ours) || isnan(theirs) || theirs <= 0.0) ? NAN : ours / theirs;
+}
+
+/* The structure's statistic `key` from its ';'-separated key=value list;
+ * NaN when it has none (Embree, bruteforce). */
+static double stat_of(const bench_result *r, const char *key)
+{
+    const size_t k = strlen(key);
+    for (const char *p = r->accel_stats.all; p && *p;) {
+        if (strncmp(p, key, k) == 0 && p[k] == '=') return strtod(p + k + 1, NULL);
+        p = strchr(p, ';');
+        if (p) p++;
+    }
+    return NAN;
 }
 
 static int is_default(const tt_build_options *b)
@@ -42,14 +56,14 @@ static void view_table(const bench_report *rp, size_t s, size_t v)
     fprintf(f, "#### %s:%s (%zu triangles)\n\n", sc->name, sc->views[v].name,
             eok ? e->triangles : (size_t)0);
     fprintf(f, "| configuration | isa | primary Mrays/s | x Embree | shadow Mrays/s | x Embree | "
-               "build [s] | x Embree | memory [MB] | x Embree | nodes / boxes / triangles per "
-               "primary ray |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+               "build [s] | x Embree | memory [MB] | x Embree | SAH cost | nodes / boxes / triangles "
+               "per primary ray |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (size_t i = 0; i < n; i++) {
         const bench_result *r = bench_report_find(rp, s, v, rp->o->rtree_size, cf[i].build,
                                                   BENCH_PRIMARY_SHADOW);
         fprintf(f, "| %s%s |", cf[i].label, is_default(&cf[i].build) ? " **(default)**" : "");
         if (!bench_result_ok(r)) {
-            fprintf(f, " %s | | | | | | | | | |\n", r ? (r->error[0] ? r->error : "error") : "-");
+            fprintf(f, " %s | | | | | | | | | | |\n", r ? (r->error[0] ? r->error : "error") : "-");
             continue;
         }
         const double p = mrays(r->summary.primary_rays, r->summary.primary_s);
@@ -64,6 +78,7 @@ static void view_table(const bench_report *rp, size_t s, size_t v)
         bench_cell_num(f, i ? ratio(r->build_s, eb) : 1.0, "%.2fx");
         bench_cell_num(f, mem / 1048576.0, "%.1f");
         bench_cell_num(f, i ? ratio(mem, em) : 1.0, "%.2fx");
+        bench_cell_num(f, stat_of(r, "sah_cost"), "%.1f");
         if (r->summary.has_stats && i) {
             const tt_ray_stats *ps = &r->summary.primary_stats;
             fprintf(f, " %.1f / %.1f / %.1f |\n", bench_per_ray(ps->nodes, ps->rays),
@@ -88,7 +103,10 @@ void bench_report_engine(const bench_report *rp)
             "above 1 is faster than Embree). Build time and memory: ours over Embree's (below 1 "
             "is better). Memory counts everything the structure holds, triangles included; "
             "Embree's is what its memory monitor reports (BVH and its vertex copy). The per-ray "
-            "counts come from the counting pass; the timed passes never count.\n\n",
+            "counts come from the counting pass; the timed passes never count. SAH cost: the "
+            "structure's own expected-cost figure from `info` (R-tree: C_trav = C_isect = 1, "
+            "areas relative to the root's; kd-tree: its builder's SAH with C_T = 1, C_I = 1.5), "
+            "comparable between the builders of one structure, not across structures.\n\n",
             rp->o->rtree_size.width, rp->o->rtree_size.height);
     for (size_t s = 0; s < rp->s->count; s++)
         for (size_t v = 0; v < rp->s->items[s].view_count; v++) view_table(rp, s, v);
