@@ -75,6 +75,18 @@ extern const tt_accel_vtable tt_embree_vtable;
 const tt_accel_vtable *tt_accel_find(const char *name);
 
 /* Helpers for implementations. */
+
+/* Adds one thread's or one ray's counts into a sum (the renderer's passes
+ * and the batch calls both gather per-thread sums this way). */
+static inline void tt_ray_stats_add(tt_ray_stats *sum, const tt_ray_stats *s)
+{
+    sum->rays += s->rays;
+    sum->nodes += s->nodes;
+    sum->interior += s->interior;
+    sum->leaves += s->leaves;
+    sum->boxes += s->boxes;
+    sum->triangles += s->triangles;
+}
 static inline void tt_hit_clear(tt_hit *hit)
 {
     hit->t = TT_INF;

@@ -121,16 +121,6 @@ static int arrays_ok(const tt_ray_arrays *a)
     return a && a->org[0] && a->org[1] && a->org[2] && a->dir[0] && a->dir[1] && a->dir[2];
 }
 
-static void add_stats(tt_ray_stats *sum, const tt_ray_stats *s)
-{
-    sum->rays += s->rays;
-    sum->nodes += s->nodes;
-    sum->interior += s->interior;
-    sum->leaves += s->leaves;
-    sum->boxes += s->boxes;
-    sum->triangles += s->triangles;
-}
-
 static int threads_of(const tt_accel *accel)
 {
     int t = tt_context_threads(accel->ctx);
@@ -214,7 +204,7 @@ tt_status tt_intersect_arrays(const tt_accel *accel, const tt_ray_arrays *rays, 
         }
         if (o->stats) {
 #pragma omp critical(tt_batch_stats)
-            add_stats(o->stats, &local);
+            tt_ray_stats_add(o->stats, &local);
         }
     }
     return report_bad(accel, rays, n, bad, bad_count, call);
@@ -271,7 +261,7 @@ tt_status tt_occluded_arrays(const tt_accel *accel, const tt_ray_arrays *rays, s
         }
         if (o->stats) {
 #pragma omp critical(tt_batch_stats)
-            add_stats(o->stats, &local);
+            tt_ray_stats_add(o->stats, &local);
         }
     }
     return report_bad(accel, rays, n, bad, bad_count, call);

@@ -15,16 +15,6 @@ static void tile_bounds(const tt_frame *f, uint32_t tile, uint32_t *x0, uint32_t
     *y1 = *y0 + TT_TILE < f->height ? *y0 + TT_TILE : f->height;
 }
 
-static void add_stats(tt_ray_stats *sum, const tt_ray_stats *s)
-{
-    sum->rays += s->rays;
-    sum->nodes += s->nodes;
-    sum->interior += s->interior;
-    sum->leaves += s->leaves;
-    sum->boxes += s->boxes;
-    sum->triangles += s->triangles;
-}
-
 static uint32_t saturate(uint64_t v) { return v > UINT32_MAX ? UINT32_MAX : (uint32_t)v; }
 
 static void store_pixel_stats(tt_frame *f, size_t i, const tt_ray_stats *s)
@@ -77,7 +67,7 @@ static void trace_stats(tt_frame *f, stats_tile_fn tile_fn, tt_ray_stats *sum)
 #pragma omp for schedule(dynamic)
         for (long tile = 0; tile < n; tile++) tile_fn(f, (uint32_t)tile, &local);
 #pragma omp critical(tt_render_stats_reduce)
-        add_stats(sum, &local);
+        tt_ray_stats_add(sum, &local);
     }
 }
 

@@ -2,7 +2,7 @@
  * accel/stats_variant.h): with TT_STATS 0 the fast variant, calling the
  * structure's fast entry points; with TT_STATS 1 the counting variant. The
  * two must trace exactly the same rays, so they share this one text.
- * Included only by trace_pass.c, which defines tile_bounds and add_stats. */
+ * Included only by trace_pass.c, which defines tile_bounds (tt_ray_stats_add is accel/accel.h's). */
 
 /* Primary rays of one tile, all started from the eye's hint. */
 static void TT_VARIANT(primary_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *sum)
@@ -26,7 +26,7 @@ static void TT_VARIANT(primary_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *s
             memset(&one, 0, sizeof one);
             args.stats = &one;
             vt->intersect_stats(accel, &w, &h, &args, &one);
-            add_stats(sum, &one);
+            tt_ray_stats_add(sum, &one);
             if (f->pixel_stats[TT_HEAT_NODES]) store_pixel_stats(f, i, &one);
 #else
             vt->intersect(accel, &w, &h, &args);
