@@ -236,9 +236,9 @@ void cli_accel_args_emit(cli_emit *e, const tt_build_options *b)
     } else if (strcmp(b->accel, "kdtree") == 0) {
         const tt_kdtree_options *kd = &b->kdtree;
         emit_str(e, "kd_build", kd_builders[kd->builder]);
-        if (kd->dmin == 0 && kd->traversal != TT_KD_HTR) emit_int(e, "dmin", TT_KD_DMIN_BOXES);
-        else if (kd->dmin <= 0) emit_str(e, "dmin", "none");
-        else emit_int(e, "dmin", kd->dmin);
+        const int dmin = tt_kdtree_dmin(kd);
+        if (dmin < 0) emit_str(e, "dmin", "none");
+        else emit_int(e, "dmin", dmin);
         emit_num(e, "ct", kd->cost_traversal);
         emit_num(e, "ci", kd->cost_intersect);
         emit_num(e, "empty_bonus", kd->empty_bonus);

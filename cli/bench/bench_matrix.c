@@ -151,7 +151,7 @@ const bench_engine_config *bench_engine_configs(size_t *count)
             b.accel = "kdtree";
             b.kdtree.builder = kd[i].builder;
             b.kdtree.traversal = TT_KD_HTR;
-            b.kdtree.dmin = -1; /* what d_min = 0 (auto) gives htr */
+            b.kdtree.dmin = tt_kdtree_dmin(&b.kdtree); /* auto resolved, as for M */
             engine_add(kd[i].label, b);
         }
     }

@@ -37,7 +37,7 @@ static int is_default(const tt_build_options *b)
     d.accel = b->accel;
     /* the defaults as the library resolves them (M = 0, d_min = 0: auto) */
     d.rtree.M = tt_rtree_max_entries(&d.rtree);
-    if (d.kdtree.dmin == 0) d.kdtree.dmin = d.kdtree.traversal == TT_KD_HTR ? -1 : TT_KD_DMIN_BOXES;
+    d.kdtree.dmin = tt_kdtree_dmin(&d.kdtree);
     return strcmp(b->accel, "embree") != 0 && bench_same_build(b, &d);
 }
 

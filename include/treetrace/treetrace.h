@@ -235,6 +235,10 @@ typedef struct tt_kdtree_options {
                             /* with htr, which uses no boxes); default 0      */
 } tt_kdtree_options;
 
+/* The d_min these options build with: dmin itself, or for dmin = 0 (auto)
+ * -1 (no boxes) with htr and TT_KD_DMIN_BOXES with the other traversals. */
+int tt_kdtree_dmin(const tt_kdtree_options *options);
+
 /* The SIMD instruction set a structure's kernels use. One binary holds the
  * kernels of every ISA (compiled in separate units); TT_ISA_AUTO picks the
  * best one this CPU supports, once, at build time of the structure. Every

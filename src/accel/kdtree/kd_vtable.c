@@ -4,14 +4,20 @@
 
 #include "accel/kdtree/kd_trace_cpu.h"
 
+int tt_kdtree_dmin(const tt_kdtree_options *o)
+{
+    if (!o) return 0;
+    if (o->dmin != 0) return o->dmin;
+    return o->traversal == TT_KD_HTR ? -1 : TT_KD_DMIN_BOXES;
+}
+
 static tt_status kd_build(tt_accel *a)
 {
     tt_kdtree *t = NULL;
     /* d_min = 0 (auto) resolves here, so the accel's options say what the
      * tree has: no boxes for HTR, which never reads them (memory), else
      * Havran & Bittner's every 4 levels. */
-    if (a->options.kdtree.dmin == 0)
-        a->options.kdtree.dmin = a->options.kdtree.traversal == TT_KD_HTR ? -1 : TT_KD_DMIN_BOXES;
+    a->options.kdtree.dmin = tt_kdtree_dmin(&a->options.kdtree);
     tt_status st = tt_kdtree_build(a->ctx, a->scene, &a->options.kdtree, &t);
     if (t) t->fast = tt_kd_cpu_kernels(a->isa, a->scene->triangle_count);
     a->impl = t;
