@@ -34,6 +34,12 @@ size_t rtc_bytes(const rtc_tree *t);
  * ISA `isa` (resolved, not TT_ISA_AUTO). */
 void rtc_select(rtc_tree *t, int traversal, tt_isa isa);
 
+/* Child i's box of node record rec (its SoA rows, stride S). */
+static inline void rtc_child_box(const tt_rtc *c, const float *rec, uint32_t i, float out[6])
+{
+    for (uint32_t k = 0; k < 6; k++) out[k] = rec[k * c->S + i];
+}
+
 tt_status rtc_check(tt_context *ctx, const rtc_tree *t, const tt_scene *scene);
 void rtc_statistics(const rtc_tree *t, tt_stat_fn fn, void *user);
 

@@ -34,25 +34,6 @@ typedef struct walk {
 
 #define FAIL(...) tt_error(w->ctx, TT_ERR_INVARIANT, __VA_ARGS__)
 
-static void lane_box(const tt_rtc *c, const float *rec, uint32_t i, float out[6])
-{
-    for (int k = 0; k < 6; k++) out[k] = rec[(uint32_t)k * c->S + i];
-}
-
-static int is_empty_mark(const float b[6])
-{
-    for (int k = 0; k < 6; k++)
-        if (b[k] != TT_INF) return 0;
-    return 1;
-}
-
-static int is_finite_box(const float b[6])
-{
-    for (int k = 0; k < 3; k++)
-        if (!(isfinite(b[k]) && isfinite(b[k + 3]) && b[k] <= b[k + 3])) return 0;
-    return 1;
-}
-
 /* 4: the leaf `ref` (entry i of node n); *box gets its triangles' union. */
 static tt_status check_leaf(walk *w, uint32_t n, uint32_t i, uint32_t ref, int lone, float box[6])
 {
@@ -148,14 +129,14 @@ static tt_status check_node(walk *w, uint32_t n, uint32_t l, uint32_t parent, fl
     rt_box_empty(box);
     for (uint32_t i = 0; i < c->S; i++) {
         float cb[6];
-        lane_box(c, rec, i, cb);
+        rtc_child_box(c, rec, i, cb);
         if (i >= cnt) {
-            if (!is_empty_mark(cb) || ref[i] != TT_INVALID_ID)
+            if (!rt_box_is_empty_mark(cb) || ref[i] != TT_INVALID_ID)
                 return FAIL("rtree compact: entry %u of node %u (which holds %u) is not marked "
                             "empty", i, n, cnt);
             continue;
         }
-        if (!is_finite_box(cb))
+        if (!rt_box_is_finite(cb))
             return FAIL("rtree compact: entry %u of node %u has no valid box", i, n);
         float content[6];
         tt_status st;

@@ -15,12 +15,6 @@ typedef struct acc {
     double sah, sah_boxes, root_area;
 } acc;
 
-/* Child i's box of record rec (SoA rows of stride S). */
-static void child_box(const tt_rtc *c, const float *rec, uint32_t i, float out[6])
-{
-    for (int k = 0; k < 6; k++) out[k] = rec[k * c->S + i];
-}
-
 /* The area of `box` relative to the root's, as rtree_stats.c weighs it. */
 static double rel_area(const acc *a, const float box[6])
 {
@@ -39,7 +33,7 @@ static void visit(const tt_rtc *c, acc *a, uint32_t n, const float box[6])
     a->sah_boxes += rel_area(a, box) * cnt;
     for (uint32_t i = 0; i < cnt; i++) {
         float cb[6];
-        child_box(c, rec, i, cb);
+        rtc_child_box(c, rec, i, cb);
         if (l > 1) {
             visit(c, a, ref[i], cb);
             continue;
@@ -62,15 +56,13 @@ void rtc_statistics(const rtc_tree *t, tt_stat_fn fn, void *user)
     memset(ap, 0, sizeof *ap);
     /* the root's box: the union of its children's */
     const float *root = tt_rtc_node(c, 0);
-    float rb[6] = {0, 0, 0, 0, 0, 0};
+    float rb[6];
+    rt_box_empty(rb);
     const uint32_t rc = tt_rtc_count(c, root);
     for (uint32_t i = 0; i < rc; i++) {
         float cb[6];
-        child_box(c, root, i, cb);
-        for (int k = 0; k < 3; k++) {
-            rb[k] = i ? (cb[k] < rb[k] ? cb[k] : rb[k]) : cb[k];
-            rb[k + 3] = i ? (cb[k + 3] > rb[k + 3] ? cb[k + 3] : rb[k + 3]) : cb[k + 3];
-        }
+        rtc_child_box(c, root, i, cb);
+        rt_box_grow(rb, cb);
     }
     ap->root_area = rc ? rt_box_area(rb) : 0.0;
     visit(c, ap, 0, rb);

@@ -27,6 +27,23 @@ static inline void rt_box_grow(float b[6], const float o[6])
     }
 }
 
+/* The mark of an empty slot or unused child in both packed layouts: all six
+ * bounds +inf (rtree_packed.h, rtc_layout.h). */
+static inline int rt_box_is_empty_mark(const float b[6])
+{
+    for (int k = 0; k < 6; k++)
+        if (b[k] != TT_INF) return 0;
+    return 1;
+}
+
+/* A real box: finite bounds, lo <= hi on every axis. */
+static inline int rt_box_is_finite(const float b[6])
+{
+    for (int k = 0; k < 3; k++)
+        if (!(isfinite(b[k]) && isfinite(b[k + 3]) && b[k] <= b[k + 3])) return 0;
+    return 1;
+}
+
 static inline float rt_box_volume(const float b[6])
 {
     return (b[3] - b[0]) * (b[4] - b[1]) * (b[5] - b[2]);

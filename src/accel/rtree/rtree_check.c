@@ -36,20 +36,6 @@ static void slot_box(const tt_rtree_packed *p, uint32_t n, float out[6])
     for (int k = 0; k < 6; k++) out[k] = g[k * p->M + pos];
 }
 
-static int is_empty_mark(const float b[6])
-{
-    for (int k = 0; k < 6; k++)
-        if (b[k] != TT_INF) return 0;
-    return 1;
-}
-
-static int is_finite_box(const float b[6])
-{
-    for (int k = 0; k < 3; k++)
-        if (!(isfinite(b[k]) && isfinite(b[k + 3]) && b[k] <= b[k + 3])) return 0;
-    return 1;
-}
-
 /* 1: Delta_L, n_e, n_p and chi against a plain enumeration of slot ids. */
 static tt_status check_index_formulas(walk *w)
 {
@@ -114,12 +100,12 @@ static tt_status check_node(walk *w, uint32_t n, uint32_t l, float box[6])
             float cb[6];
             slot_box(p, e + i, cb);
             if (i >= cnt) {
-                if (!is_empty_mark(cb))
+                if (!rt_box_is_empty_mark(cb))
                     return FAIL("rtree: slot %u (entry %u of node %u, which holds %u) is not "
                                 "marked empty", e + i, i, n, cnt);
                 continue;
             }
-            if (!is_finite_box(cb))
+            if (!rt_box_is_finite(cb))
                 return FAIL("rtree: slot %u (entry %u of node %u) has no valid box", e + i, i, n);
             float content[6];
             tt_status st = check_node(w, e + i, l - 1, content);
@@ -174,11 +160,11 @@ tt_status rt_check(tt_context *ctx, const rt_tree *t, const tt_scene *scene)
     float root[6];
     slot_box(p, 0, root);
     if (st == TT_OK && p->triangles == 0) {
-        if (!is_empty_mark(root) || p->L != 0)
+        if (!rt_box_is_empty_mark(root) || p->L != 0)
             st = tt_error(ctx, TT_ERR_INVARIANT, "rtree: an empty tree must be one empty leaf");
     } else if (st == TT_OK) {
         float content[6];
-        if (!is_finite_box(root))
+        if (!rt_box_is_finite(root))
             st = tt_error(ctx, TT_ERR_INVARIANT, "rtree: the root slot has no valid box");
         if (st == TT_OK) st = check_node(&w, 0, p->L, content);
         if (st == TT_OK && !rt_box_equal(root, content))
@@ -193,7 +179,7 @@ tt_status rt_check(tt_context *ctx, const rt_tree *t, const tt_scene *scene)
         if (w.reached[n >> 3] & (1u << (n & 7))) continue;
         float b[6];
         slot_box(p, n, b);
-        int bad = !is_empty_mark(b);
+        int bad = !rt_box_is_empty_mark(b);
         if (n < p->delta[0]) bad |= p->count[n] != 0;
         else bad |= p->leaf_start[n - p->delta[0]] != p->leaf_start[n - p->delta[0] + 1];
         if (bad)
