@@ -62,3 +62,21 @@ tt_accel *tt_test_build_default(tt_context *ctx, const tt_scene *scene, const ch
     REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &opt, &a));
     return a;
 }
+
+typedef struct stat_lookup {
+    const char *name;
+    double value;
+} stat_lookup;
+
+static void take_stat(void *user, const char *key, double value)
+{
+    stat_lookup *l = user;
+    if (strcmp(key, l->name) == 0) l->value = value;
+}
+
+double tt_test_stat(const tt_accel *accel, const char *name)
+{
+    stat_lookup l = {name, -1.0};
+    tt_accel_statistics(accel, take_stat, &l);
+    return l.value;
+}

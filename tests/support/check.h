@@ -65,6 +65,8 @@ void tt_test_view(tt_context *ctx, const char *name, tt_camera *out);
 /* Whether this build has the structure `name` (optional back ends such as
  * embree may be missing). */
 int tt_test_has_accel(const char *name);
+/* The structure's statistic `name` (tt_accel_statistics); -1 when absent. */
+double tt_test_stat(const tt_accel *accel, const char *name);
 /* Builds structure `name` with default options, failing the test on error. */
 tt_accel *tt_test_build_default(tt_context *ctx, const tt_scene *scene, const char *name);
 

@@ -7,23 +7,6 @@
 #include "compare.h"
 #include "kd_testing.h"
 
-typedef struct lookup {
-    const char *name;
-    double value;
-} lookup;
-
-static void take(void *user, const char *key, double value)
-{
-    lookup *l = user;
-    if (strcmp(key, l->name) == 0) l->value = value;
-}
-
-static double stat_of(const tt_accel *a, const char *name)
-{
-    lookup l = {name, -1.0};
-    tt_accel_statistics(a, take, &l);
-    return l.value;
-}
 
 static void scene_views(tt_context *ctx, const char *file, const char *const *views, size_t n_views,
                         uint32_t w, uint32_t h)
@@ -41,10 +24,10 @@ static void scene_views(tt_context *ctx, const char *file, const char *const *vi
         for (int tr = 0; tr < 4; tr++) tests[n++] = &tv[d][tr];
     }
     tt_accel *exact = kd_build_with(ctx, scene, TT_KD_NLOGN, 4, TT_KD_HTR);
-    const double sah_binned = stat_of(trees[1], "sah_cost"), sah_exact = stat_of(exact, "sah_cost");
+    const double sah_binned = tt_test_stat(trees[1], "sah_cost"), sah_exact = tt_test_stat(exact, "sah_cost");
     CHECK_MSG(sah_binned > 0.0 && sah_binned < 1.1 * sah_exact, "%s: SAH cost %g binned, %g exact",
               file, sah_binned, sah_exact);
-    CHECK(stat_of(trees[1], "ref_budget_reached") == 0.0);
+    CHECK(tt_test_stat(trees[1], "ref_budget_reached") == 0.0);
     for (size_t v = 0; v < n_views; v++) {
         tt_camera cam;
         tt_test_view(ctx, views[v], &cam);

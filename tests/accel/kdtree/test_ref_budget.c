@@ -11,23 +11,6 @@
 
 #include "accel/kdtree/kd_build.h"
 
-typedef struct lookup {
-    const char *name;
-    double value;
-} lookup;
-
-static void take(void *user, const char *key, double value)
-{
-    lookup *l = user;
-    if (strcmp(key, l->name) == 0) l->value = value;
-}
-
-static double stat_of(const tt_accel *a, const char *name)
-{
-    lookup l = {name, -1.0};
-    tt_accel_statistics(a, take, &l);
-    return l.value;
-}
 
 /* Rays straight down onto the plane and slanted ones through it. */
 static size_t down_rays(const tt_accel *test, const tt_accel *ref)
@@ -60,7 +43,7 @@ int main(void)
     CHECK_MSG(t->ref_count <= kd_ref_budget(2000), "%zu references, budget %zu",
               (size_t)t->ref_count, kd_ref_budget(2000));
     CHECK(t->ref_budget_hit == 1);
-    CHECK(stat_of(fast, "ref_budget_reached") == 1.0);
+    CHECK(tt_test_stat(fast, "ref_budget_reached") == 1.0);
     CHECK(kd_same_tree(t, tt_kdtree_of(slow)));
     CHECK_OK(ctx, tt_accel_check(fast));
     tt_accel views[4];
@@ -79,7 +62,7 @@ int main(void)
     tt_scene *bunny = tt_test_load_scene(ctx, "bun_zipper_res4.ply");
     tt_accel *b = kd_build_with(ctx, bunny, TT_KD_NLOGN, 4, TT_KD_HTR);
     CHECK(tt_kdtree_of(b)->ref_budget_hit == 0);
-    CHECK(stat_of(b, "ref_budget_reached") == 0.0);
+    CHECK(tt_test_stat(b, "ref_budget_reached") == 0.0);
     tt_accel_destroy(b);
     tt_scene_destroy(bunny);
     tt_context_destroy(ctx);

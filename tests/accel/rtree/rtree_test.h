@@ -3,6 +3,7 @@
 #define TT_TEST_RTREE_H
 
 #include <stdio.h>
+#include <string.h>
 
 #include "check.h"
 
@@ -44,6 +45,16 @@ static const char *rt_describe(const tt_build_options *o)
              o->rtree.split == TT_RTREE_SPLIT_QUADRATIC ? "quadratic" : "rstar",
              rt_traversal_names[o->rtree.traversal]);
     return buf;
+}
+
+/* For the tests that corrupt a built tree: the check must refuse it with
+ * TT_ERR_INVARIANT and a message naming `what`. */
+static inline void expect_broken(tt_context *ctx, const tt_accel *a, const char *what)
+{
+    tt_status st = tt_accel_check(a);
+    CHECK_MSG(st == TT_ERR_INVARIANT, "corruption '%s' not detected", what);
+    CHECK_MSG(strstr(tt_context_last_error(ctx), what) != NULL, "message \"%s\" lacks \"%s\"",
+              tt_context_last_error(ctx), what);
 }
 
 /* Builds and checks every invariant; returns NULL (a failure recorded) if

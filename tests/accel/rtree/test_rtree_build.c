@@ -161,14 +161,6 @@ static void test_validation(tt_context *ctx, const tt_scene *scene)
 /* The check can fail: corrupt the packed tree in several ways and expect
  * TT_ERR_INVARIANT with a message naming the broken rule; restore it and
  * expect a pass again. */
-static void expect_broken(tt_context *ctx, const tt_accel *a, const char *what)
-{
-    tt_status st = tt_accel_check(a);
-    CHECK_MSG(st == TT_ERR_INVARIANT, "corruption '%s' not detected", what);
-    CHECK_MSG(strstr(tt_context_last_error(ctx), what) != NULL, "message \"%s\" lacks \"%s\"",
-              tt_context_last_error(ctx), what);
-}
-
 static void test_check_detects(tt_context *ctx, const tt_scene *scene)
 {
     tt_build_options o = rt_options(TT_RTREE_RSTAR_SURFACE, TT_RTREE_AUTO, 2, 4);

@@ -20,14 +20,6 @@ static tt_build_options compact(int m, int M)
     return o;
 }
 
-static void expect_broken(tt_context *ctx, const tt_accel *a, const char *what)
-{
-    tt_status st = tt_accel_check(a);
-    CHECK_MSG(st == TT_ERR_INVARIANT, "corruption '%s' not detected", what);
-    CHECK_MSG(strstr(tt_context_last_error(ctx), what) != NULL, "message \"%s\" lacks \"%s\"",
-              tt_context_last_error(ctx), what);
-}
-
 static void test_check_detects(tt_context *ctx, const tt_scene *scene)
 {
     tt_build_options o = compact(2, 4);
