@@ -138,7 +138,7 @@ static int parse_tables(const char *s, unsigned *out, FILE *err)
         if (i == bench_table_count) {
             fprintf(err,
                     "treetrace bench: --only: unknown table '%s' (tables: F1 F2 F3 F4 F5 "
-                    "H1 H3)\n",
+                    "H1 H3 E)\n",
                     tok);
             return -1;
         }
