@@ -105,7 +105,7 @@ void bench_report_engine(const bench_report *rp)
             "Embree's is what its memory monitor reports (BVH and its vertex copy). The per-ray "
             "counts come from the counting pass; the timed passes never count. SAH cost: the "
             "structure's own expected-cost figure from `info` (R-tree: C_trav = C_isect = 1, "
-            "areas relative to the root's; kd-tree: its builder's SAH with C_T = 1, C_I = 1.5), "
+            "areas relative to the root's; kd-tree: its builder's SAH with its C_T and C_I), "
             "comparable between the builders of one structure, not across structures.\n\n",
             rp->o->rtree_size.width, rp->o->rtree_size.height);
     for (size_t s = 0; s < rp->s->count; s++)
