@@ -153,17 +153,15 @@ static tt_status check_call(const tt_accel *accel, const tt_batch_options *o, co
     return TT_OK;
 }
 
-tt_status tt_intersect_arrays(const tt_accel *accel, const tt_ray_arrays *rays, size_t n,
-                              const tt_hit_arrays *hits, tt_status *ray_status,
-                              const tt_batch_options *options)
+/* The loop both calls share: each thread takes the plan's items, checks
+ * and traces their rays, and stores a hit (hits != NULL: closest hits) or
+ * an occlusion byte. The choice is one predictable branch a ray, which
+ * costs nothing beside a traversal and keeps one copy of the loop. */
+static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, size_t n,
+                           const tt_batch_options *options, const char *call,
+                           const tt_hit_arrays *hits, uint8_t *occluded, ptrdiff_t occluded_stride,
+                           tt_status *ray_status)
 {
-    static const char call[] = "tt_intersect";
-    tt_status st = check_call(accel, options, call);
-    if (st != TT_OK) return st;
-    if (n == 0) return TT_OK;
-    if (!arrays_ok(rays) || !hits)
-        return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT,
-                        "%s: %zu rays but no ray or result arrays", call, n);
     tt_batch_options def;
     tt_batch_options_default(&def);
     const tt_batch_options *o = options ? options : &def;
@@ -181,25 +179,25 @@ tt_status tt_intersect_arrays(const tt_accel *accel, const tt_ray_arrays *rays, 
             FOR_EACH_RAY(&p, c, i) {
                 float org[3], dir[3], tmin, tmax;
                 tt_hit h;
+                int occ = 0;
+                tt_hit_clear(&h);
                 load_ray(rays, i, org, dir, &tmin, &tmax);
                 tt_status rs = check_ray(org, dir, tmin, tmax);
                 if (rs == TT_OK) {
                     tt_wray w;
-                    tt_trace_args args = {o->start_hint, TT_INVALID_ID, NULL};
+                    tt_trace_args args = {o->start_hint, TT_INVALID_ID, o->stats ? &local : NULL};
                     tt_wray_init(&w, org, dir, tmin, tmax);
-                    if (o->stats) {
-                        args.stats = &local;
-                        vt->intersect_stats(accel, &w, &h, &args, &local);
-                    } else {
-                        vt->intersect(accel, &w, &h, &args);
-                    }
+                    if (hits && o->stats) vt->intersect_stats(accel, &w, &h, &args, &local);
+                    else if (hits) vt->intersect(accel, &w, &h, &args);
+                    else if (o->stats) occ = vt->occluded_stats(accel, &w, &args, &local);
+                    else occ = vt->occluded(accel, &w, &args);
                 } else {
-                    tt_hit_clear(&h);
                     if (i < bad) bad = i;
                     bad_count++;
                 }
                 if (ray_status) ray_status[i] = rs;
-                store_hit(hits, i, &h);
+                if (hits) store_hit(hits, i, &h);
+                else occluded[(ptrdiff_t)i * occluded_stride] = (uint8_t)(occ != 0);
             }
         }
         if (o->stats) {
@@ -208,6 +206,20 @@ tt_status tt_intersect_arrays(const tt_accel *accel, const tt_ray_arrays *rays, 
         }
     }
     return report_bad(accel, rays, n, bad, bad_count, call);
+}
+
+tt_status tt_intersect_arrays(const tt_accel *accel, const tt_ray_arrays *rays, size_t n,
+                              const tt_hit_arrays *hits, tt_status *ray_status,
+                              const tt_batch_options *options)
+{
+    static const char call[] = "tt_intersect";
+    tt_status st = check_call(accel, options, call);
+    if (st != TT_OK) return st;
+    if (n == 0) return TT_OK;
+    if (!arrays_ok(rays) || !hits)
+        return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT,
+                        "%s: %zu rays but no ray or result arrays", call, n);
+    return run_batch(accel, rays, n, options, call, hits, NULL, 0, ray_status);
 }
 
 tt_status tt_occluded_arrays(const tt_accel *accel, const tt_ray_arrays *rays, size_t n,
@@ -222,49 +234,7 @@ tt_status tt_occluded_arrays(const tt_accel *accel, const tt_ray_arrays *rays, s
         return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT,
                         "%s: %zu rays but no ray or result arrays", call, n);
     if (occluded_stride == 0) occluded_stride = 1;
-    tt_batch_options def;
-    tt_batch_options_default(&def);
-    const tt_batch_options *o = options ? options : &def;
-    const tt_accel_vtable *vt = accel->vt;
-    const int threads = threads_of(accel);
-    plan p;
-    plan_make(&p, n, o, threads);
-    size_t bad = SIZE_MAX, bad_count = 0;
-#pragma omp parallel num_threads(threads) reduction(min : bad) reduction(+ : bad_count)
-    {
-        tt_ray_stats local;
-        memset(&local, 0, sizeof local);
-#pragma omp for schedule(dynamic)
-        for (long c = 0; c < p.items; c++) {
-            FOR_EACH_RAY(&p, c, i) {
-                float org[3], dir[3], tmin, tmax;
-                int occ = 0;
-                load_ray(rays, i, org, dir, &tmin, &tmax);
-                tt_status rs = check_ray(org, dir, tmin, tmax);
-                if (rs == TT_OK) {
-                    tt_wray w;
-                    tt_trace_args args = {o->start_hint, TT_INVALID_ID, NULL};
-                    tt_wray_init(&w, org, dir, tmin, tmax);
-                    if (o->stats) {
-                        args.stats = &local;
-                        occ = vt->occluded_stats(accel, &w, &args, &local);
-                    } else {
-                        occ = vt->occluded(accel, &w, &args);
-                    }
-                } else {
-                    if (i < bad) bad = i;
-                    bad_count++;
-                }
-                if (ray_status) ray_status[i] = rs;
-                occluded[(ptrdiff_t)i * occluded_stride] = (uint8_t)(occ != 0);
-            }
-        }
-        if (o->stats) {
-#pragma omp critical(tt_batch_stats)
-            tt_ray_stats_add(o->stats, &local);
-        }
-    }
-    return report_bad(accel, rays, n, bad, bad_count, call);
+    return run_batch(accel, rays, n, options, call, NULL, occluded, occluded_stride, ray_status);
 }
 
 /* The AoS forms: the same loops over tt_ray's and tt_hit's own layout. */
