@@ -189,11 +189,7 @@ static void white_box(tt_context *ctx, const tt_scene *scene, const char *what)
  * and compared with bruteforce on random rays and rays aimed at triangles. */
 static void rays_all(tt_context *ctx, const tt_scene *scene, const char *what, uint32_t nrays)
 {
-    tt_accel *bf = NULL;
-    tt_build_options bo;
-    tt_build_options_default(&bo);
-    bo.accel = "bruteforce";
-    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &bf));
+    tt_accel *bf = tt_test_build_default(ctx, scene, "bruteforce");
     const uint32_t T = (uint32_t)scene->triangle_count;
     tt_ray *aimed = malloc(((size_t)nrays + 1) * sizeof *aimed);
     if (!aimed) exit(1);

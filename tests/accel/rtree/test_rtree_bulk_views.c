@@ -16,11 +16,7 @@ static void view(tt_context *ctx, const char *file, const char *name, uint32_t s
     tt_scene *scene = tt_test_load_scene(ctx, file);
     tt_camera cam;
     tt_test_view(ctx, name, &cam);
-    tt_accel *bf = NULL;
-    tt_build_options bo;
-    tt_build_options_default(&bo);
-    bo.accel = "bruteforce";
-    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &bf));
+    tt_accel *bf = tt_test_build_default(ctx, scene, "bruteforce");
     tt_test_reference *ref = tt_test_reference_view(scene, bf, &cam, size, size);
     for (int bld = TT_RTREE_BUILD_STR; bld <= TT_RTREE_BUILD_SAH; bld++)
         for (int q = 0; q < BULK_MM; q++)

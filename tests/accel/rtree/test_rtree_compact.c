@@ -52,11 +52,7 @@ static void view(tt_context *ctx, const char *file, const char *view_name, uint3
     tt_scene *scene = tt_test_load_scene(ctx, file);
     tt_camera cam;
     tt_test_view(ctx, view_name, &cam);
-    tt_accel *bf = NULL;
-    tt_build_options bo;
-    tt_build_options_default(&bo);
-    bo.accel = "bruteforce";
-    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &bf));
+    tt_accel *bf = tt_test_build_default(ctx, scene, "bruteforce");
     tt_test_reference *ref = tt_test_reference_view(scene, bf, &cam, size, size);
     for (int k = 0; k < COMPACT_MM_COUNT; k++) {
         const int m = compact_mm[k].m, M = compact_mm[k].M;

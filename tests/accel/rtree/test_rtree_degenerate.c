@@ -88,13 +88,7 @@ static size_t compare_aimed(const tt_scene *scene, const tt_accel *a, const tt_a
 
 static void all_configs(tt_context *ctx, const tt_scene *scene, const char *what)
 {
-    tt_accel *bf = NULL;
-    tt_build_options bo;
-    tt_build_options_default(&bo);
-    bo.rtree.build = TT_RTREE_BUILD_INSERT; /* Feldmann's R-tree */
-    bo.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
-    bo.accel = "bruteforce";
-    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &bf));
+    tt_accel *bf = tt_test_build_default(ctx, scene, "bruteforce");
     for (int s = 0; s < 5; s++)
         for (int tr = 0; tr < 4; tr++)
             for (int mm = 0; mm < RT_MM_COUNT; mm += 3) { /* (2,4) and (4,16) */

@@ -119,13 +119,7 @@ int main(void)
 
     /* the brief's repro, checked explicitly */
     {
-        tt_build_options bo;
-        tt_build_options_default(&bo);
-        bo.rtree.build = TT_RTREE_BUILD_INSERT; /* Feldmann's R-tree */
-        bo.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
-        bo.accel = "bruteforce";
-        tt_accel *bf = NULL;
-        REQUIRE_OK(ctx, tt_accel_build(ctx, scenes[0], &bo, &bf));
+        tt_accel *bf = tt_test_build_default(ctx, scenes[0], "bruteforce");
         tt_ray r = {{1, 0.5f, 1}, 0.0f, {0, 0, -1}, INFINITY};
         for (int tr = 1; tr < 4; tr++) {
             tt_build_options o = rt_options(TT_RTREE_RSTAR_SURFACE, tr, 2, 4);
@@ -146,13 +140,7 @@ int main(void)
     }
 
     for (int s = 0; s < 2; s++) {
-        tt_build_options bo;
-        tt_build_options_default(&bo);
-        bo.rtree.build = TT_RTREE_BUILD_INSERT; /* Feldmann's R-tree */
-        bo.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
-        bo.accel = "bruteforce";
-        tt_accel *bf = NULL;
-        REQUIRE_OK(ctx, tt_accel_build(ctx, scenes[s], &bo, &bf));
+        tt_accel *bf = tt_test_build_default(ctx, scenes[s], "bruteforce");
         const size_t n = face_plane_rays(g[s], rays, sizeof rays / sizeof rays[0]);
         for (int tr = 0; tr < 4; tr++)
             for (int mm = 0; mm < RT_MM_COUNT; mm++) {

@@ -14,13 +14,7 @@
 static void random_matrix(tt_context *ctx, const char *file, uint32_t rays)
 {
     tt_scene *scene = tt_test_load_scene(ctx, file);
-    tt_accel *bf = NULL;
-    tt_build_options bo;
-    tt_build_options_default(&bo);
-    bo.rtree.build = TT_RTREE_BUILD_INSERT; /* Feldmann's R-tree */
-    bo.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
-    bo.accel = "bruteforce";
-    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &bf));
+    tt_accel *bf = tt_test_build_default(ctx, scene, "bruteforce");
     /* every strategy x traversal; (m, M), split and reinsert rotate so
      * that each value meets several strategies and traversals */
     for (int s = 0; s < 5; s++)
@@ -81,13 +75,7 @@ static void hints(tt_context *ctx)
 static void full_bunny(tt_context *ctx)
 {
     tt_scene *scene = tt_test_load_scene(ctx, "bun_zipper.ply");
-    tt_accel *bf = NULL;
-    tt_build_options bo;
-    tt_build_options_default(&bo);
-    bo.rtree.build = TT_RTREE_BUILD_INSERT; /* Feldmann's R-tree */
-    bo.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
-    bo.accel = "bruteforce";
-    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &bf));
+    tt_accel *bf = tt_test_build_default(ctx, scene, "bruteforce");
     for (int tr = 0; tr < 4; tr++) {
         tt_build_options o = rt_options(TT_RTREE_RSTAR_SURFACE, tr, 2, 4);
         tt_accel *a = rt_build_checked(ctx, scene, &o);

@@ -29,13 +29,7 @@ static void view_cached(tt_context *ctx, const char *file, const char *view, uin
     tt_scene *scene = tt_test_load_scene(ctx, file);
     tt_camera cam;
     tt_test_view(ctx, view, &cam);
-    tt_accel *bf = NULL;
-    tt_build_options bo;
-    tt_build_options_default(&bo);
-    bo.rtree.build = TT_RTREE_BUILD_INSERT; /* Feldmann's R-tree */
-    bo.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
-    bo.accel = "bruteforce";
-    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &bf));
+    tt_accel *bf = tt_test_build_default(ctx, scene, "bruteforce");
     tt_test_reference *ref = tt_test_reference_view(scene, bf, &cam, size, size);
     strategies_by_traversals(ctx, scene, ref, view);
     /* the auto traversal picks by the eye: the hint names the choice */
@@ -59,13 +53,7 @@ static void view_options(tt_context *ctx, const char *file, const char *view, ui
     tt_scene *scene = tt_test_load_scene(ctx, file);
     tt_camera cam;
     tt_test_view(ctx, view, &cam);
-    tt_accel *bf = NULL;
-    tt_build_options bo;
-    tt_build_options_default(&bo);
-    bo.rtree.build = TT_RTREE_BUILD_INSERT; /* Feldmann's R-tree */
-    bo.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
-    bo.accel = "bruteforce";
-    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &bf));
+    tt_accel *bf = tt_test_build_default(ctx, scene, "bruteforce");
     tt_test_reference *ref = tt_test_reference_view(scene, bf, &cam, size, size);
     for (int s = 0; s < 5; s++)
         for (int tr = 0; tr < 4; tr++)
