@@ -30,25 +30,29 @@ typedef struct kd_bins {
     uint32_t start[3][KD_BINS], end[3][KD_BINS];
 } kd_bins;
 
-/* Where the bins of a node lie: origin and bins per unit on each axis. */
+/* Where the bins of a node lie: origin and bins per unit on each axis,
+ * and how many bins (fewer for small nodes: most nodes are small, and a
+ * node of n references has at most 2 n distinct bounds per axis). */
 typedef struct kd_bin_grid {
     float lo[3], scale[3];
+    int bins;
 } kd_bin_grid;
 
-kd_bin_grid kd_bin_grid_of(const kd_bbox *bounds);
+kd_bin_grid kd_bin_grid_of(const kd_bbox *bounds, uint32_t n);
 /* Adds refs [0, n) to bins (zeroed by the caller). */
 void kd_bin_count(const kd_bref *refs, uint32_t n, const kd_bin_grid *g, kd_bins *bins);
 
 /* The cheapest split among the bin boundaries and the two planes that cut
  * off the empty space beside the boxes' union, by the counts of the bins
  * (an estimate): axis -1 if none lies strictly inside the cell. */
-kd_split kd_bin_best(const kd_builder *b, const kd_bins *bins, uint32_t n, const kd_bbox *bounds,
-                     const tt_aabb *cell);
+kd_split kd_bin_best(const kd_builder *b, const kd_bins *bins, const kd_bin_grid *g, uint32_t n,
+                     const kd_bbox *bounds, const tt_aabb *cell);
 /* The small nodes' split: every box bound is a candidate, counted exactly
- * (O(n^2), no sort), the same planar rule. */
+ * (O(n^2) in vector loops, no sort), the same planar rule. */
 kd_split kd_bin_exact_small(const kd_builder *b, const kd_bref *refs, uint32_t n, const tt_aabb *cell);
-/* Nodes of at most this many references take kd_bin_exact_small. */
-#define KD_BIN_SMALL 12
+/* Nodes of at most this many references take kd_bin_exact_small (a
+ * multiple of 4: its vector width). */
+#define KD_BIN_SMALL 8
 
 /* Counts the children of split s exactly (kd_classify on the boxes) and
  * prices it: what kd_should_split and the reference budget need. */

@@ -67,7 +67,7 @@ static kd_split find_split(const kd_builder *b, const kd_bref *r, uint32_t n, co
                            const kd_bbox *bounds, int parallel)
 {
     if (n <= KD_BIN_SMALL) return kd_bin_exact_small(b, r, n, cell);
-    const kd_bin_grid g = kd_bin_grid_of(bounds);
+    const kd_bin_grid g = kd_bin_grid_of(bounds, n);
     kd_bins bins;
     memset(&bins, 0, sizeof bins);
     uint32_t chunks = parallel ? (n + CHUNK - 1) / CHUNK : 1;
@@ -93,24 +93,37 @@ static kd_split find_split(const kd_builder *b, const kd_bref *r, uint32_t n, co
     } else {
         kd_bin_count(r, n, &g, &bins);
     }
-    kd_split s = kd_bin_best(b, &bins, n, bounds, cell);
+    kd_split s = kd_bin_best(b, &bins, &g, n, bounds, cell);
     /* The binned counts are an estimate; the budget and the comparison
      * with a leaf take the plane's exact ones. */
     if (s.axis >= 0) kd_bin_count_sides(b, r, n, cell, &s);
     return s;
 }
 
-/* Rounds a double bound outwards to float. */
-static float down(double x)
+/* The float next to finite f towards -infinity (nextafterf without the
+ * library call and its special cases). */
+static inline float below(float f)
 {
-    float f = (float)x;
-    return (double)f > x ? nextafterf(f, -INFINITY) : f;
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    if (f == 0.0f) u = 0x80000001u; /* the least negative subnormal */
+    else u = f > 0.0f ? u - 1 : u + 1;
+    memcpy(&f, &u, sizeof f);
+    return f;
 }
 
-static float up(double x)
+/* Rounds a double bound outwards to float (the narrowed bounds are finite:
+ * convex combinations of float vertices). */
+static inline float down(double x)
 {
-    float f = (float)x;
-    return (double)f < x ? nextafterf(f, INFINITY) : f;
+    const float f = (float)x;
+    return (double)f > x ? below(f) : f;
+}
+
+static inline float up(double x)
+{
+    const float f = (float)x;
+    return (double)f < x ? -below(-f) : f;
 }
 
 /* Narrows box x to the bounds of the triangle's part in the half-space
