@@ -126,31 +126,9 @@ static inline float up(double x)
     return (double)f < x ? -below(-f) : f;
 }
 
-/* Narrows box x to the bounds of the triangle's part in the half-space
- * below (side < 0) or above (side > 0) plane p on axis a, computed in
- * double and rounded outwards: still a box around the triangle's part in
- * the child's cell, much tighter than the box cut at the plane for a long
- * thin triangle lying across the cell. 0 if nothing is left. */
-static int narrow(kd_bref *x, const float *v, int a, float p, int side)
+/* Narrows box x to [lo, hi] rounded outwards; 0 if nothing is left. */
+static inline int narrow_to(kd_bref *x, const double *lo, const double *hi)
 {
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int i = 0; i < 3; i++) {
-        const float *u = v + 3 * i, *w = v + 3 * ((i + 1) % 3);
-        if (side * (u[a] - p) >= 0.0f)
-            for (int k = 0; k < 3; k++) {
-                lo[k] = u[k] < lo[k] ? u[k] : lo[k];
-                hi[k] = u[k] > hi[k] ? u[k] : hi[k];
-            }
-        /* The edge crosses the plane strictly: its point on it. */
-        if ((u[a] < p && w[a] > p) || (u[a] > p && w[a] < p)) {
-            const double t = ((double)p - u[a]) / ((double)w[a] - u[a]);
-            for (int k = 0; k < 3; k++) {
-                const double c = k == a ? (double)p : u[k] + t * ((double)w[k] - u[k]);
-                lo[k] = c < lo[k] ? c : lo[k];
-                hi[k] = c > hi[k] ? c : hi[k];
-            }
-        }
-    }
     for (int k = 0; k < 3; k++) {
         if (!(lo[k] <= hi[k])) return 0;
         const float l = down(lo[k]), h = up(hi[k]);
@@ -159,6 +137,44 @@ static int narrow(kd_bref *x, const float *v, int a, float p, int side)
         if (!(x->lo[k] <= x->hi[k])) return 0;
     }
     return 1;
+}
+
+/* Narrows the straddler's boxes l and r (its box already cut at plane p
+ * on axis a) to the bounds of the triangle's part in the half-space below
+ * and above the plane, computed in double and rounded outwards: still
+ * boxes around the triangle's part in each child's cell, much tighter than
+ * the cut box for a long thin triangle lying across the cell. The points
+ * where edges cross the plane bound both parts: computed once. Returns
+ * which sides keep something (KD_SIDE_* bits). */
+static int narrow(kd_bref *l, kd_bref *r, const float *v, int a, float p)
+{
+    double llo[3] = {INFINITY, INFINITY, INFINITY}, lhi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double rlo[3] = {INFINITY, INFINITY, INFINITY}, rhi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < 3; i++) {
+        const float *u = v + 3 * i, *w = v + 3 * ((i + 1) % 3);
+        if (u[a] <= p)
+            for (int k = 0; k < 3; k++) {
+                llo[k] = u[k] < llo[k] ? u[k] : llo[k];
+                lhi[k] = u[k] > lhi[k] ? u[k] : lhi[k];
+            }
+        if (u[a] >= p)
+            for (int k = 0; k < 3; k++) {
+                rlo[k] = u[k] < rlo[k] ? u[k] : rlo[k];
+                rhi[k] = u[k] > rhi[k] ? u[k] : rhi[k];
+            }
+        /* The edge crosses the plane strictly: its point on it. */
+        if ((u[a] < p && w[a] > p) || (u[a] > p && w[a] < p)) {
+            const double t = ((double)p - u[a]) / ((double)w[a] - u[a]);
+            for (int k = 0; k < 3; k++) {
+                const double c = k == a ? (double)p : u[k] + t * ((double)w[k] - u[k]);
+                llo[k] = c < llo[k] ? c : llo[k];
+                lhi[k] = c > lhi[k] ? c : lhi[k];
+                rlo[k] = c < rlo[k] ? c : rlo[k];
+                rhi[k] = c > rhi[k] ? c : rhi[k];
+            }
+        }
+    }
+    return (narrow_to(l, llo, lhi) ? KD_SIDE_LEFT : 0) | (narrow_to(r, rlo, rhi) ? KD_SIDE_RIGHT : 0);
 }
 
 /* Divides r[0, n) by split s (the counts in s an upper bound): the right
@@ -178,15 +194,15 @@ static void partition(const kd_builder *b, kd_bref *r, uint32_t n, const kd_spli
         kd_bref x = r[i];
         const int side = kd_classify(x.lo[a], x.hi[a], s);
         if (side == KD_SIDE_BOTH) {
-            const float *v = b->tri + 9 * (size_t)x.tri;
             kd_bref y = x;
             y.hi[a] = s->pos;
-            if (narrow(&y, v, a, s->pos, -1)) {
+            x.lo[a] = s->pos;
+            const int keep = narrow(&y, &x, b->tri + 9 * (size_t)x.tri, a, s->pos);
+            if (keep & KD_SIDE_LEFT) {
                 l[m++] = y;
                 bbox_grow(lb, &y);
             }
-            x.lo[a] = s->pos;
-            if (narrow(&x, v, a, s->pos, 1)) {
+            if (keep & KD_SIDE_RIGHT) {
                 r[w++] = x; /* w <= i: the slot written was read already */
                 bbox_grow(rb, &x);
             }
