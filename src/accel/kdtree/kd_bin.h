@@ -52,7 +52,7 @@ kd_split kd_bin_best(const kd_builder *b, const kd_bins *bins, const kd_bin_grid
 kd_split kd_bin_exact_small(const kd_builder *b, const kd_bref *refs, uint32_t n, const tt_aabb *cell);
 /* Nodes of at most this many references take kd_bin_exact_small (a
  * multiple of 4: its vector width). */
-#define KD_BIN_SMALL 8
+#define KD_BIN_SMALL 16
 
 /* Counts the children of split s exactly (kd_classify on the boxes) and
  * prices it: what kd_should_split and the reference budget need. */
