@@ -177,16 +177,16 @@ static int narrow(kd_bref *l, kd_bref *r, const float *v, int a, float p)
     return (narrow_to(l, llo, lhi) ? KD_SIDE_LEFT : 0) | (narrow_to(r, rlo, rhi) ? KD_SIDE_RIGHT : 0);
 }
 
-/* Divides r[0, n) by split s (the counts in s an upper bound): the right
- * child's references to r[0, *nr), the left child's to r[*nr, *nr + *nl);
- * r must have room for n + s->n_left. A straddler's box is cut at the
- * plane and narrowed to the triangle's part on each side (dropped where
- * none is left). The children's box unions come out in lb, rb. */
-static void partition(const kd_builder *b, kd_bref *r, uint32_t n, const kd_split *s, kd_bbox *lb,
-                      kd_bbox *rb, uint32_t *nl, uint32_t *nr)
+/* Divides r[0, n) by split s (the counts in s an upper bound): the left
+ * child's references to l[0, *nl), the right child's to r[0, *nr), in
+ * place (never ahead of the reading; l must not overlap r[0, n)). A
+ * straddler's box is cut at the plane and narrowed to the triangle's part
+ * on each side (dropped where none is left). The children's box unions
+ * come out in lb, rb. */
+static void partition(const kd_builder *b, kd_bref *r, uint32_t n, const kd_split *s, kd_bref *l,
+                      kd_bbox *lb, kd_bbox *rb, uint32_t *nl, uint32_t *nr)
 {
     const int a = s->axis;
-    kd_bref *l = r + n;
     uint32_t w = 0, m = 0;
     bbox_empty(lb);
     bbox_empty(rb);
@@ -214,7 +214,6 @@ static void partition(const kd_builder *b, kd_bref *r, uint32_t n, const kd_spli
             bbox_grow(rb, &x);
         }
     }
-    memmove(r + w, l, (size_t)m * sizeof *l);
     *nl = m;
     *nr = w;
 }
@@ -238,7 +237,11 @@ static tt_status build(kd_builder *b, bin_stack *st, size_t base, uint32_t n, co
     tt_status e = reserve(b, st, base + n + nl);
     if (e != TT_OK) return e;
     kd_bbox lb, rb;
-    partition(b, st->ref + base, n, &s, &lb, &rb, &nl, &nr);
+    /* The left child's references above the node's, then moved down onto
+     * the right child's. */
+    kd_bref *r = st->ref + base;
+    partition(b, r, n, &s, r + n, &lb, &rb, &nl, &nr);
+    memmove(r + nr, r + n, (size_t)nl * sizeof *r);
     kd_account_split(b, n, nl, nr);
     tt_aabb lcell, rcell;
     kd_split_cell(cell, &s, &lcell, &rcell);
@@ -289,9 +292,10 @@ static void root_refs(const kd_builder *b, const tt_aabb *root, kd_bref *r, kd_b
 
 /* ------------------------------------------------------------ parallel */
 
-/* A node built by tasks into sub (see kd_build_par.h). Consumes refs. */
-static tt_status par_build(kd_sub *sub, kd_bref *refs, uint32_t n, const tt_aabb *cell, kd_bbox bounds,
-                           kd_place here)
+/* A node built by tasks into sub (see kd_build_par.h). Consumes refs (an
+ * array of cap entries). */
+static tt_status par_build(kd_sub *sub, kd_bref *refs, size_t cap, uint32_t n, const tt_aabb *cell,
+                           kd_bbox bounds, kd_place here)
 {
     kd_builder *b = &sub->out;
     kd_split s = {-1, 0.0f, 0, INFINITY, 0, 0};
@@ -299,30 +303,32 @@ static tt_status par_build(kd_sub *sub, kd_bref *refs, uint32_t n, const tt_aabb
         s = find_split(b, refs, n, cell, &bounds, 1);
     /* Not split here: the serial recursion decides again, the same way. */
     if (s.axis < 0 || !kd_should_split(b, n, here.depth, &s))
-        return build_from(b, refs, n, n, cell, &bounds, &here);
+        return build_from(b, refs, cap, n, cell, &bounds, &here);
     uint32_t nl = s.n_left, nr = s.n_right;
-    kd_bref *both = tt_realloc_array(b->ctx, refs, (size_t)n + nl, sizeof *refs);
-    kd_bref *left = both ? tt_alloc_array(b->ctx, nl ? nl : 1, sizeof *left) : NULL;
+    /* The left child's references to an array of their own (with room
+     * for its children: a subtree built serially uses it as its stack),
+     * the right child's in place. */
+    const size_t lcap = 2 * (size_t)nl + 64;
+    kd_bref *left = tt_alloc_array(b->ctx, lcap, sizeof *left);
     sub->kid[0] = kd_sub_new(b);
     sub->kid[1] = kd_sub_new(b);
-    if (!both || !left || !sub->kid[0] || !sub->kid[1]) {
-        tt_free(b->ctx, both ? both : refs);
+    if (!left || !sub->kid[0] || !sub->kid[1]) {
+        tt_free(b->ctx, refs);
         tt_free(b->ctx, left);
         return kd_oom(b);
     }
     kd_bbox lb, rb;
-    partition(b, both, n, &s, &lb, &rb, &nl, &nr);
-    memcpy(left, both + nr, (size_t)nl * sizeof *left);
+    partition(b, refs, n, &s, left, &lb, &rb, &nl, &nr);
     kd_account_split(b, n, nl, nr);
     sub->split = s;
     tt_aabb lcell, rcell;
     kd_split_cell(cell, &s, &lcell, &rcell);
     const kd_place child = kd_child_place(b, &here);
     kd_sub *l = sub->kid[0], *r = sub->kid[1];
-#pragma omp task firstprivate(l, left, nl, lcell, lb, child)
-    l->st = par_build(l, left, nl, &lcell, lb, child);
-#pragma omp task firstprivate(r, both, nr, rcell, rb, child)
-    r->st = par_build(r, both, nr, &rcell, rb, child);
+#pragma omp task firstprivate(l, left, lcap, nl, lcell, lb, child)
+    l->st = par_build(l, left, lcap, nl, &lcell, lb, child);
+#pragma omp task firstprivate(r, refs, cap, nr, rcell, rb, child)
+    r->st = par_build(r, refs, cap, nr, &rcell, rb, child);
 #pragma omp taskwait
     return l->st != TT_OK ? l->st : r->st;
 }
@@ -331,7 +337,8 @@ static tt_status par_build(kd_sub *sub, kd_bref *refs, uint32_t n, const tt_aabb
 static tt_status build_parallel(kd_builder *b, const tt_aabb *root, int threads)
 {
     kd_par par = {0, 0, 0};
-    kd_bref *refs = tt_alloc_array(b->ctx, b->tri_count, sizeof *refs);
+    const size_t cap = 2 * (size_t)b->tri_count + 1024;
+    kd_bref *refs = tt_alloc_array(b->ctx, cap, sizeof *refs);
     kd_sub *top = kd_sub_new(b);
     tt_status st = TT_OK;
     if (!refs || !top) {
@@ -346,7 +353,7 @@ static tt_status build_parallel(kd_builder *b, const tt_aabb *root, int threads)
 #pragma omp single
         {
             kd_place here = {0, 0, TT_KD_NO_PARENT};
-            st = par_build(top, refs, b->tri_count, root, bounds, here);
+            st = par_build(top, refs, cap, b->tri_count, root, bounds, here);
         }
         if (par.abort) st = KD_ABORTED;
         if (st == TT_OK) st = kd_replay(b, top, root);
