@@ -50,8 +50,6 @@ typedef struct kd_builder {
     /* Set while a parallel build runs (kd_build_par.h): the budget is then
      * checked against a bound instead of `live` (see kd_should_split). */
     kd_par *par;
-    /* The approximate builder: big nodes take binned candidates. */
-    int binned;
     /* output, grown as the depth-first recursion emits nodes */
     tt_kd_node *nodes;
     uint32_t node_count, node_cap;
@@ -97,22 +95,16 @@ tt_status kd_emit_interior(kd_builder *b, const kd_split *s, const tt_aabb *cell
 void kd_link_right(kd_builder *b, uint32_t node);
 
 /* The builders: each fills b's arrays for the whole scene. The binned
- * one is kd_build_nlog2n with b->binned set (its small nodes are exact). */
+ * one (kd_build_binned.c) approximates the others' tree. */
 tt_status kd_build_nlogn(kd_builder *b, const tt_aabb *root);
 tt_status kd_build_nlog2n(kd_builder *b, const tt_aabb *root);
+tt_status kd_build_binned(kd_builder *b, const tt_aabb *root);
 
 /* A triangle with the bounds of its part inside the node's cell. */
 typedef struct kd_item {
     uint32_t tri;
     tt_aabb box;
 } kd_item;
-
-/* The binned SAH split of a node (kd_build_binned.c): candidates at bin
- * boundaries only, counts exact for the plane chosen. */
-kd_split kd_binned_split(const kd_builder *b, const kd_item *items, uint32_t n, const tt_aabb *cell);
-/* Nodes of at least this many triangles take the binned split (tests
- * lower it to bin small scenes too). */
-extern uint32_t kd_binned_min;
 
 /* Sets the context's error message; safe from concurrent tasks. */
 tt_status kd_fail(kd_builder *b, tt_status st, const char *fmt, ...);

@@ -42,7 +42,6 @@ static void sweep_axis(const kd_builder *b, n2_state *s, const item *items, uint
 static kd_split find_split(const kd_builder *b, n2_state *s, const item *items, uint32_t n,
                            const tt_aabb *cell)
 {
-    if (b->binned && n >= kd_binned_min) return kd_binned_split(b, items, n, cell);
     kd_split best = {-1, 0.0f, 0, INFINITY, 0, 0};
     for (int axis = 0; axis < 3; axis++) sweep_axis(b, s, items, n, cell, axis, &best);
     return best;
@@ -50,22 +49,15 @@ static kd_split find_split(const kd_builder *b, n2_state *s, const item *items, 
 
 /* Divides a node's items between its children (clipping the straddlers
  * again to each child's cell). Consumes items. */
-static tt_status split_items(kd_builder *b, item *items, uint32_t n, const kd_split *split, int loose,
+static tt_status split_items(kd_builder *b, item *items, uint32_t n, const kd_split *split,
                              const tt_aabb *lcell, const tt_aabb *rcell, item **left, uint32_t *n_left,
                              item **right, uint32_t *n_right)
 {
     uint32_t nl = 0, nr = 0;
-    if (loose) {
-        /* kd_binned_split counted these very sides (kd_classify on the
-         * same bounds): no second counting pass. */
-        nl = split->n_left;
-        nr = split->n_right;
-    } else {
-        for (uint32_t i = 0; i < n; i++) {
-            int side = kd_classify(items[i].box.lo[split->axis], items[i].box.hi[split->axis], split);
-            nl += (side & KD_SIDE_LEFT) != 0;
-            nr += (side & KD_SIDE_RIGHT) != 0;
-        }
+    for (uint32_t i = 0; i < n; i++) {
+        int side = kd_classify(items[i].box.lo[split->axis], items[i].box.hi[split->axis], split);
+        nl += (side & KD_SIDE_LEFT) != 0;
+        nr += (side & KD_SIDE_RIGHT) != 0;
     }
     item *l = tt_alloc_array(b->ctx, nl, sizeof *l);
     item *r = tt_alloc_array(b->ctx, nr, sizeof *r);
@@ -80,16 +72,7 @@ static tt_status split_items(kd_builder *b, item *items, uint32_t n, const kd_sp
         int side = kd_classify(items[i].box.lo[split->axis], items[i].box.hi[split->axis], split);
         if (side == KD_SIDE_LEFT) l[nl++] = items[i];
         else if (side == KD_SIDE_RIGHT) r[nr++] = items[i];
-        else if (loose) {
-            /* The binned builder's big nodes: the straddler's bounds cut
-             * at the plane, no clipping (see tighten). */
-            item it = items[i];
-            it.box.hi[split->axis] = split->pos;
-            l[nl++] = it;
-            it.box = items[i].box;
-            it.box.lo[split->axis] = split->pos;
-            r[nr++] = it;
-        } else {
+        else {
             const float *t = b->tri + 9 * (size_t)items[i].tri;
             item it = {items[i].tri, {{0, 0, 0}, {0, 0, 0}}};
             /* A straddler whose clipped part turns out empty on one side
@@ -107,45 +90,17 @@ static tt_status split_items(kd_builder *b, item *items, uint32_t n, const kd_sp
     return TT_OK;
 }
 
-/* Whether a node's split is binned: then its straddlers' bounds are only
- * cut at the plane, a superset of their clipped part (loose). */
-static int binned_node(const kd_builder *b, uint32_t n, int depth)
-{
-    return b->binned && n >= kd_binned_min && depth < b->max_depth;
-}
-
-/* Clipping each straddler at each binned node took most of the binned
- * build's time. Its bounds are cut at the planes instead, and clipped to
- * the cell once where the exact sweep takes over (or a leaf is made):
- * the exact candidates, and leaves holding only triangles that touch
- * them. Returns the number of triangles that do. */
-static uint32_t tighten(const kd_builder *b, item *items, uint32_t n, const tt_aabb *cell)
-{
-    uint32_t m = 0;
-    for (uint32_t i = 0; i < n; i++) {
-        item it = items[i];
-        if (kd_clip_triangle(b->tri + 9 * (size_t)it.tri, cell, &it.box)) items[m++] = it;
-    }
-    return m;
-}
-
-/* Consumes (frees) items. loose: their bounds may exceed their clipped
- * part (children of a binned node). */
+/* Consumes (frees) items. */
 static tt_status build(kd_builder *b, n2_state *s, item *items, uint32_t n, const tt_aabb *cell,
-                       const kd_place *here, int loose)
+                       const kd_place *here)
 {
     if (kd_par_aborted(b)) {
         tt_free(b->ctx, items);
         return KD_ABORTED;
     }
-    if (loose && !binned_node(b, n, here->depth)) {
-        n = tighten(b, items, n, cell);
-        loose = 0;
-    }
     kd_split split = {-1, 0.0f, 0, INFINITY, 0, 0};
     if (n > 0 && here->depth < b->max_depth) split = find_split(b, s, items, n, cell);
     if (!kd_should_split(b, n, here->depth, &split)) {
-        if (loose) n = tighten(b, items, n, cell);
         for (uint32_t i = 0; i < n; i++) s->ids[i] = items[i].tri;
         tt_free(b->ctx, items);
         return kd_emit_leaf(b, s->ids, n);
@@ -154,8 +109,7 @@ static tt_status build(kd_builder *b, n2_state *s, item *items, uint32_t n, cons
     kd_split_cell(cell, &split, &lcell, &rcell);
     item *left, *right;
     uint32_t nl, nr;
-    const int cut = binned_node(b, n, here->depth);
-    tt_status st = split_items(b, items, n, &split, cut, &lcell, &rcell, &left, &nl, &right, &nr);
+    tt_status st = split_items(b, items, n, &split, &lcell, &rcell, &left, &nl, &right, &nr);
     if (st != TT_OK) return st;
     uint32_t node;
     kd_place child;
@@ -165,13 +119,13 @@ static tt_status build(kd_builder *b, n2_state *s, item *items, uint32_t n, cons
         tt_free(b->ctx, right);
         return st;
     }
-    st = build(b, s, left, nl, &lcell, &child, cut);
+    st = build(b, s, left, nl, &lcell, &child);
     if (st != TT_OK) {
         tt_free(b->ctx, right);
         return st;
     }
     kd_link_right(b, node);
-    return build(b, s, right, nr, &rcell, &child, cut);
+    return build(b, s, right, nr, &rcell, &child);
 }
 
 /* The scratch of a build (or of one thread of it): 0 when out of memory. */
@@ -223,36 +177,31 @@ static n2_state *my_state(n2_par *p)
 
 /* A node built by tasks into sub (see kd_build_par.h). Consumes items. */
 static tt_status par_build(n2_par *p, kd_sub *sub, item *items, uint32_t n, const tt_aabb *cell,
-                           kd_place here, int loose)
+                           kd_place here)
 {
     kd_builder *b = &sub->out;
     kd_split split = {-1, 0.0f, 0, INFINITY, 0, 0};
     int oom = 0;
-    const int cut = binned_node(b, n, here.depth);
-    if (n >= kd_par_cutoff && here.depth < b->max_depth && !(loose && !cut) && !kd_par_aborted(b)) {
-        if (cut) {
-            split = kd_binned_split(b, items, n, cell);
-        } else {
-            /* The three axes at once, each with its thread's scratch; the
-             * lowest cost wins, the lower axis on a tie, as in the serial
-             * loop. */
-            kd_split ax[3];
-            for (int k = 0; k < 3; k++) {
-                ax[k] = split;
+    if (n >= kd_par_cutoff && here.depth < b->max_depth && !kd_par_aborted(b)) {
+        /* The three axes at once, each with its thread's scratch; the
+         * lowest cost wins, the lower axis on a tie, as in the serial
+         * loop. */
+        kd_split ax[3];
+        for (int k = 0; k < 3; k++) {
+            ax[k] = split;
 #pragma omp task shared(ax, oom) firstprivate(k)
-                {
-                    n2_state *s = my_state(p);
-                    if (s) sweep_axis(b, s, items, n, cell, k, &ax[k]);
-                    else {
+            {
+                n2_state *s = my_state(p);
+                if (s) sweep_axis(b, s, items, n, cell, k, &ax[k]);
+                else {
 #pragma omp atomic write
-                        oom = 1;
-                    }
+                    oom = 1;
                 }
             }
-#pragma omp taskwait
-            for (int k = 0; k < 3; k++)
-                if (ax[k].cost < split.cost) split = ax[k];
         }
+#pragma omp taskwait
+        for (int k = 0; k < 3; k++)
+            if (ax[k].cost < split.cost) split = ax[k];
     }
     n2_state *s = my_state(p);
     if (!s || oom) {
@@ -260,16 +209,14 @@ static tt_status par_build(n2_par *p, kd_sub *sub, item *items, uint32_t n, cons
         return kd_oom(b);
     }
     /* Not split here (small, or no split pays): the serial recursion
-     * decides again, the same way. A loose node of the binned builder
-     * below its threshold is only tightened there, so it is never split
-     * here (its sweep needs exact bounds). */
-    if (split.axis < 0 || (loose && !cut) || !kd_should_split(b, n, here.depth, &split))
-        return build(b, s, items, n, cell, &here, loose);
+     * decides again, the same way. */
+    if (split.axis < 0 || !kd_should_split(b, n, here.depth, &split))
+        return build(b, s, items, n, cell, &here);
     tt_aabb lcell, rcell;
     kd_split_cell(cell, &split, &lcell, &rcell);
     item *left, *right;
     uint32_t nl, nr;
-    tt_status st = split_items(b, items, n, &split, cut, &lcell, &rcell, &left, &nl, &right, &nr);
+    tt_status st = split_items(b, items, n, &split, &lcell, &rcell, &left, &nl, &right, &nr);
     if (st != TT_OK) return st;
     sub->kid[0] = kd_sub_new(b);
     sub->kid[1] = kd_sub_new(b);
@@ -282,9 +229,9 @@ static tt_status par_build(n2_par *p, kd_sub *sub, item *items, uint32_t n, cons
     const kd_place child = kd_child_place(b, &here);
     kd_sub *l = sub->kid[0], *r = sub->kid[1];
 #pragma omp task firstprivate(l, left, nl, lcell)
-    l->st = par_build(p, l, left, nl, &lcell, child, cut);
+    l->st = par_build(p, l, left, nl, &lcell, child);
 #pragma omp task firstprivate(r, right, nr, rcell)
-    r->st = par_build(p, r, right, nr, &rcell, child, cut);
+    r->st = par_build(p, r, right, nr, &rcell, child);
 #pragma omp taskwait
     return l->st != TT_OK ? l->st : r->st;
 }
@@ -308,7 +255,7 @@ static tt_status build_parallel(kd_builder *b, const tt_aabb *root, int threads)
 #pragma omp single
         {
             kd_place here = {0, 0, TT_KD_NO_PARENT};
-            st = par_build(&p, top, items, (uint32_t)par.m, root, here, 0);
+            st = par_build(&p, top, items, (uint32_t)par.m, root, here);
         }
         if (par.abort) st = KD_ABORTED;
         if (st == TT_OK) st = kd_replay(b, top, root);
@@ -338,7 +285,7 @@ tt_status kd_build_nlog2n(kd_builder *b, const tt_aabb *root)
         kd_place here = {0, 0, TT_KD_NO_PARENT};
         const uint32_t m = root_items(b, root, items);
         b->live = m;
-        st = build(b, &s, items, m, root, &here, 0);
+        st = build(b, &s, items, m, root, &here);
     }
     state_free(&s);
     return st;

@@ -11,7 +11,8 @@
  *    of the two children (the builder puts it on one side).
  *  - sound: every reference in a leaf touches the leaf's closed cell,
  *    widened by a few float rounding units, as the builder's clipped bounds
- *    are rounded outwards. */
+ *    are rounded outwards (the triangle's bounding box does, for the binned
+ *    builder's trees: tt_kdtree.loose_refs). */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -60,6 +61,18 @@ static int leaf_holds(const tt_kdtree *t, tt_kd_node leaf, uint32_t tri)
     return lo < tt_kd_leaf_count(leaf.bits) && r[lo] == tri;
 }
 
+/* Whether the triangle's bounding box touches the closed box [lo, hi]:
+ * soundness for a builder that cuts boxes instead of clipping triangles
+ * (tt_kdtree.loose_refs). */
+static int box_touches(const float *v, const double lo[3], const double hi[3])
+{
+    for (int k = 0; k < 3; k++) {
+        const double a = fmin(fmin(v[k], v[3 + k]), v[6 + k]), b = fmax(fmax(v[k], v[3 + k]), v[6 + k]);
+        if (b < lo[k] || a > hi[k]) return 0;
+    }
+    return 1;
+}
+
 static tt_status walk_leaf(check *c, uint32_t node, tt_kd_node n, const cell *box)
 {
     const tt_kdtree *t = c->t;
@@ -82,6 +95,12 @@ static tt_status walk_leaf(check *c, uint32_t node, tt_kd_node n, const cell *bo
                           c->scene->triangle_count);
         if (i > 0 && t->refs[n.u.first + i - 1] >= tri)
             return broken(c, node, "leaf references are not strictly ascending at triangle %u", tri);
+        if (t->loose_refs) {
+            if (!box_touches(c->scene->tri + 9 * (size_t)tri, lo, hi))
+                return broken(c, node, "leaf holds triangle %u, whose box does not touch its cell",
+                              tri);
+            continue;
+        }
         double poly[KD_CLIP_MAX][3];
         if (!kd_clip_polygon(c->scene->tri + 9 * (size_t)tri, lo, hi, poly))
             return broken(c, node, "leaf holds triangle %u, which does not touch its cell", tri);

@@ -24,6 +24,9 @@ typedef struct tt_kdtree {
     int dmin;      /* < 0: only the root is augmented                     */
     int max_depth; /* the depth limit the builder enforced                */
     int ref_budget_hit; /* some split was refused by the reference budget */
+    /* A leaf may hold a triangle whose bounding box touches its cell but
+     * whose polygon does not (the binned builder, kd_bin.h). */
+    int loose_refs;
     double cost_traversal, cost_intersect, empty_factor;
 
     /* Shape, counted once after the build. */

@@ -103,7 +103,6 @@ tt_status tt_kdtree_build(tt_context *ctx, const tt_scene *scene, const tt_kdtre
     b.max_depth = opt->max_depth ? opt->max_depth : auto_depth(scene->triangle_count);
     b.dmin = opt->dmin;
     b.ref_budget = kd_ref_budget(b.tri_count);
-    b.binned = opt->builder == TT_KD_BINNED;
     tt_aabb root = scene->bounds;
     /* Record 0: the root's box, which every traversal clips against. */
     b.aug = tt_alloc_array(ctx, 256, sizeof *b.aug);
@@ -116,7 +115,8 @@ tt_status tt_kdtree_build(tt_context *ctx, const tt_scene *scene, const tt_kdtre
     b.aug[0].node = 0;
     if (b.tri_count == 0) st = kd_emit_leaf(&b, NULL, 0);
     else if (opt->builder == TT_KD_NLOGN) st = kd_build_nlogn(&b, &root);
-    else st = kd_build_nlog2n(&b, &root);
+    else if (opt->builder == TT_KD_NLOG2N) st = kd_build_nlog2n(&b, &root);
+    else st = kd_build_binned(&b, &root);
     tt_kdtree *t = NULL;
     if (st == TT_OK) {
         t = tt_calloc(ctx, 1, sizeof *t);
@@ -137,6 +137,7 @@ tt_status tt_kdtree_build(tt_context *ctx, const tt_scene *scene, const tt_kdtre
     t->dmin = opt->dmin;
     t->max_depth = b.max_depth;
     t->ref_budget_hit = b.budget_hit;
+    t->loose_refs = opt->builder == TT_KD_BINNED;
     t->cost_traversal = b.ct;
     t->cost_intersect = b.ci;
     t->empty_factor = b.empty_factor;

@@ -1,12 +1,34 @@
 /* Degenerate inputs: no triangle, one triangle, all triangles coplanar, all
- * identical, and a soup with collinear and point triangles. Both builders
- * agree, the check passes, and every traversal agrees with bruteforce on
- * random rays (and on rays lying in the common plane). */
+ * identical, a soup with collinear and point triangles, and that soup at
+ * coordinates near the float range. The exact builders agree, the check
+ * passes on their trees and the binned builder's, and every traversal on
+ * both agrees with bruteforce on random rays (and on rays lying in the
+ * common plane). */
 #include <math.h>
 
 #include "compare.h"
+#include "io/scene.h"
 #include "kd_scenes.h"
 #include "kd_testing.h"
+
+/* The scene's triangles, centred on 0 and scaled by f. */
+static tt_scene *scaled(tt_context *ctx, const tt_scene *s, float f)
+{
+    const size_t n = tt_scene_triangle_count(s);
+    float *v = malloc(9 * n * sizeof *v);
+    uint32_t *ix = malloc(3 * n * sizeof *ix);
+    if (!v || !ix) {
+        fprintf(stderr, "out of memory\n");
+        exit(1);
+    }
+    for (size_t i = 0; i < 9 * n; i++) v[i] = (s->tri[i] - 0.5f) * f;
+    for (size_t i = 0; i < 3 * n; i++) ix[i] = (uint32_t)i;
+    tt_scene *out = NULL;
+    REQUIRE_OK(ctx, tt_scene_create(ctx, v, 3 * n, ix, n, &out));
+    free(v);
+    free(ix);
+    return out;
+}
 
 static void exercise(tt_context *ctx, tt_scene *scene, const char *what)
 {
@@ -31,6 +53,16 @@ static void exercise(tt_context *ctx, tt_scene *scene, const char *what)
         }
         tt_accel_destroy(a);
         tt_accel_destroy(b);
+        /* The binned builder: its own tree, as exact for every ray. */
+        tt_accel *c = kd_build_with(ctx, scene, TT_KD_BINNED, dmins[d], TT_KD_HTR);
+        CHECK_OK(ctx, tt_accel_check(c));
+        kd_traversal_views(c, views);
+        for (int tr = 0; tr < 4; tr++) {
+            size_t bad = tt_test_compare_random(scene, &views[tr], ref, 600, 5);
+            CHECK_MSG(bad == 0, "%s, binned, %s, dmin %d: %zu random rays disagree", what,
+                      kd_traversal_names[tr], dmins[d], bad);
+        }
+        tt_accel_destroy(c);
     }
     tt_accel_destroy(ref);
 }
@@ -93,6 +125,20 @@ int main(void)
     /* A soup with collinear and point triangles (never hit). */
     s = kd_scene_soup(ctx, 300, 17);
     exercise(ctx, s, "soup");
+    tt_scene_destroy(s);
+
+    /* Huge coordinates: the soup scaled to 1e30, and (the binned builder
+     * only) to where differences of coordinates overflow float, as its
+     * bin arithmetic does in float. */
+    s = kd_scene_soup(ctx, 300, 23);
+    tt_scene *huge = scaled(ctx, s, 1e30f);
+    exercise(ctx, huge, "huge");
+    tt_scene_destroy(huge);
+    huge = scaled(ctx, s, 3e38f);
+    a = kd_build_with(ctx, huge, TT_KD_BINNED, 1, TT_KD_HTR);
+    CHECK_OK(ctx, tt_accel_check(a));
+    tt_accel_destroy(a);
+    tt_scene_destroy(huge);
     tt_scene_destroy(s);
 
     tt_context_destroy(ctx);

@@ -164,8 +164,13 @@ static void rays_on(tt_context *ctx, tt_scene *scene, const char *what, uint32_t
     REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &bo, &ref));
     tt_ray *rays = malloc(n_plane * sizeof *rays);
     if (!rays) exit(1);
-    for (size_t d = 0; d < sizeof dmins / sizeof dmins[0]; d++) {
-        tt_accel *kd = kd_build_with(ctx, scene, TT_KD_NLOGN, dmins[d], TT_KD_HTR);
+    /* The exact tree, and the binned builder's (other planes, and leaves
+     * that may hold triangles only their boxes reach). */
+    for (size_t dd = 0; dd < 2 * sizeof dmins / sizeof dmins[0]; dd++) {
+        const size_t d = dd % (sizeof dmins / sizeof dmins[0]);
+        const int binned = dd >= sizeof dmins / sizeof dmins[0];
+        const char *bn = binned ? "binned" : "nlogn";
+        tt_accel *kd = kd_build_with(ctx, scene, binned ? TT_KD_BINNED : TT_KD_NLOGN, dmins[d], TT_KD_HTR);
         CHECK_OK(ctx, tt_accel_check(kd));
         const tt_kdtree *t = tt_kdtree_of(kd);
         tt_isa isas[TT_ISA_AVX512 + 1];
@@ -178,13 +183,13 @@ static void rays_on(tt_context *ctx, tt_scene *scene, const char *what, uint32_t
                 size_t n = plane_rays(scene, t, rays, n_plane, 7u + (uint32_t)d, 1);
                 size_t bad =
                     tt_test_compare_random(scene, &views[tr], ref, n_random, 11u + (uint32_t)d);
-                CHECK_MSG(bad == 0, "%s, %s, %s, dmin %d: %zu random rays disagree", what,
+                CHECK_MSG(bad == 0, "%s, %s, %s, %s, dmin %d: %zu random rays disagree", what, bn,
                           kd_traversal_names[tr], isa, dmins[d], bad);
                 bad = tt_test_compare_rays(&views[tr], ref, rays, n);
-                CHECK_MSG(bad == 0, "%s, %s, %s, dmin %d: %zu split-plane rays disagree", what,
+                CHECK_MSG(bad == 0, "%s, %s, %s, %s, dmin %d: %zu split-plane rays disagree", what, bn,
                           kd_traversal_names[tr], isa, dmins[d], bad);
                 bad = hinted(&views[tr], ref, rays, n, t->aug_count, 5u);
-                CHECK_MSG(bad == 0, "%s, %s, %s, dmin %d: %zu hinted rays disagree", what,
+                CHECK_MSG(bad == 0, "%s, %s, %s, %s, dmin %d: %zu hinted rays disagree", what, bn,
                           kd_traversal_names[tr], isa, dmins[d], bad);
             }
             kd_isa_view_free(on);
