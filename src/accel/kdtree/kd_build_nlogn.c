@@ -133,8 +133,9 @@ static uint32_t reclip(nl_state *s, uint32_t nb, const tt_aabb *cell, uint64_t *
 
 /* Builds both children's lists in one pass over the parent's: the events
  * of one-sided triangles (their order kept) merged with the re-clipped
- * straddlers' events. Each child's run for an axis is sized for the worst
- * case, two events per triangle, so the split needs no counting pass. */
+ * straddlers' events as they go. Each child's run for an axis is sized for
+ * the worst case, two events per triangle, so the split needs no counting
+ * pass. */
 static int child_lists(nl_state *s, const nl_lists *parent, int depth, int own, uint32_t n_left,
                        uint32_t n_right, const uint64_t *lclip, const size_t llen[3],
                        const uint64_t *rclip, const size_t rlen[3], uint32_t nb, nl_lists *left,
@@ -149,25 +150,42 @@ static int child_lists(nl_state *s, const nl_lists *parent, int depth, int own, 
     uint64_t *ldst = left->block, *rdst = right->block;
     for (int k = 0; k < 3; k++) {
         const uint64_t *ev = axis_list(parent, k);
+        /* The straddlers' sorted events for this axis; the value after the
+         * last is above every event (type 3 does not exist). */
+        const uint64_t *lc = lclip + 2 * (size_t)nb * k, *rc = rclip + 2 * (size_t)nb * k;
+        const uint64_t *lc_end = lc + llen[k], *rc_end = rc + rlen[k];
+        uint64_t lnext = lc < lc_end ? *lc : UINT64_MAX, rnext = rc < rc_end ? *rc : UINT64_MAX;
         size_t nl = 0, nr = 0;
-        /* Branch-free: the sides come in no predictable order. A store past
-         * a run's end lands in the next axis' space (overwritten later) or
-         * in the spare slot. */
         for (size_t i = 0; i < parent->n[k]; i++) {
             const uint64_t e = ev[i];
+            /* Few straddlers against many one-sided triangles: these loops
+             * rarely run, and merging here spares a second pass over the
+             * children's lists. Keys are distinct (a straddler's events left
+             * the parent's list), so the order is the sorted one. */
+            while (lnext < e) {
+                ldst[nl++] = lnext;
+                lnext = ++lc < lc_end ? *lc : UINT64_MAX;
+            }
+            while (rnext < e) {
+                rdst[nr++] = rnext;
+                rnext = ++rc < rc_end ? *rc : UINT64_MAX;
+            }
             const uint8_t side = s->side[kd_event_tri(e)];
+            /* Branch-free: the sides come in no predictable order. A store
+             * past a run's end lands in the next axis' space (overwritten
+             * later) or in the spare slot. */
             ldst[nl] = e;
             rdst[nr] = e;
             _Static_assert(KD_SIDE_LEFT == 1 && KD_SIDE_RIGHT == 2, "side bits");
             nl += side & KD_SIDE_LEFT;
             nr += side >> 1; /* KD_SIDE_RIGHT */
         }
-        kd_merge_in_place(ldst, nl, lclip + 2 * (size_t)nb * k, llen[k]);
-        kd_merge_in_place(rdst, nr, rclip + 2 * (size_t)nb * k, rlen[k]);
-        left->n[k] = nl + llen[k];
-        right->n[k] = nr + rlen[k];
-        ldst += left->n[k];
-        rdst += right->n[k];
+        while (lc < lc_end) ldst[nl++] = *lc++;
+        while (rc < rc_end) rdst[nr++] = *rc++;
+        left->n[k] = nl;
+        right->n[k] = nr;
+        ldst += nl;
+        rdst += nr;
     }
     return 1;
 }
