@@ -94,6 +94,10 @@ static uint32_t classify(nl_state *s, const uint64_t *ev, size_t n_ev, const kd_
                 nl++;
             } else if (s->side[t] == KD_SIDE_BOTH) {
                 s->ids[nb++] = t;
+                /* reclip reads it next: the scene's triangles are far
+                 * larger than the caches. */
+                __builtin_prefetch(s->tri + 9 * (size_t)t);
+                __builtin_prefetch(s->tri + 9 * (size_t)t + 8);
             }
         } else {
             uint8_t side = key < pkey ? KD_SIDE_LEFT : key > pkey ? KD_SIDE_RIGHT : planar_side;
@@ -129,8 +133,23 @@ static uint32_t reclip(nl_state *s, uint32_t nb, const tt_aabb *cell, uint64_t *
     }
     /* Order among events of equal position and type does not matter: the
      * sweep and classification look only at position and type, and leaves
-     * sort their ids. */
-    for (int k = 0; k < 3; k++) kd_radix_sort_events(out + 2 * (size_t)nb * k, tmp, len[k]);
+     * sort their ids. One triangle's events are in order already (its
+     * START before its END, at a higher position). Most nodes re-clip a
+     * straddler or two: short runs are sorted here, not through calls. */
+    if (kept <= 1) return kept;
+    for (int k = 0; k < 3; k++) {
+        uint64_t *run = out + 2 * (size_t)nb * k;
+        if (len[k] > 16) {
+            kd_radix_sort_events(run, tmp, len[k]);
+            continue;
+        }
+        for (size_t i = 1; i < len[k]; i++) {
+            const uint64_t x = run[i];
+            size_t j = i;
+            for (; j > 0 && run[j - 1] > x; j--) run[j] = run[j - 1];
+            run[j] = x;
+        }
+    }
     return kept;
 }
 
