@@ -262,7 +262,8 @@ static int clip_room(nl_state *s, uint32_t nb)
 static tt_status emit_leaf(kd_builder *b, nl_state *s, nl_lists *lists)
 {
     uint32_t m = 0;
-    const uint64_t *ev = axis_list(lists, 0);
+    /* An empty child of a split has no block (split_node). */
+    const uint64_t *ev = lists->n[0] ? axis_list(lists, 0) : NULL;
     for (size_t i = 0; i < lists->n[0]; i++)
         if (kd_event_type(ev[i]) != KD_END) s->ids[m++] = kd_event_tri(ev[i]);
     put_block(s, lists);
@@ -276,6 +277,28 @@ static tt_status split_node(kd_builder *b, nl_state *s, nl_lists *lists, uint32_
                             tt_aabb *lcell, tt_aabb *rcell, uint32_t *n_left, uint32_t *n_right,
                             nl_lists *left, nl_lists *right)
 {
+    if (split->n_left == 0 || split->n_right == 0) {
+        /* A split that cuts off empty space (the sweep's counts are exact
+         * but for straddlers, and there are none: every triangle lies on
+         * one side). That side's lists are the parent's, event for event:
+         * they are handed over, not filtered; the other child is an empty
+         * leaf with no lists. The block stays valid: a pool buffer of a
+         * depth that only a node above this subtree reuses, or one of the
+         * node's own. */
+        const int left_full = split->n_left != 0;
+        kd_split_cell(cell, split, lcell, rcell);
+        kd_account_split(b, n, left_full ? n : 0, left_full ? 0 : n);
+        nl_lists *full = left_full ? left : right, *empty = left_full ? right : left;
+        *full = *lists;
+        empty->block = NULL;
+        empty->n[0] = empty->n[1] = empty->n[2] = 0;
+        empty->owned = 0;
+        empty->stride = 0;
+        lists->block = NULL;
+        *n_left = left_full ? n : 0;
+        *n_right = left_full ? 0 : n;
+        return TT_OK;
+    }
     const uint64_t *ev = axis_list(lists, split->axis);
     const size_t n_ev = lists->n[split->axis];
     uint32_t nl, nr;
