@@ -38,7 +38,9 @@ typedef struct nl_state {
 typedef struct nl_lists {
     uint64_t *block;
     size_t n[3];
-    int owned; /* allocated for this node alone (else a pool buffer) */
+    int owned;     /* allocated for this node alone (else a pool buffer)  */
+    size_t stride; /* axis k's list starts at block + k stride; 0: the
+                    * lists follow each other                            */
 } nl_lists;
 
 /* A block of n events for a child at this depth (which: 0 left, 1 right);
@@ -65,6 +67,7 @@ static void put_block(nl_state *s, nl_lists *l)
 
 static uint64_t *axis_list(const nl_lists *l, int axis)
 {
+    if (l->stride) return l->block + (size_t)axis * l->stride;
     size_t off = 0;
     for (int k = 0; k < axis; k++) off += l->n[k];
     return l->block + off;
@@ -91,6 +94,10 @@ static uint32_t classify(nl_state *s, const uint64_t *ev, size_t n_ev, const kd_
                 nl++;
             } else if (s->side[t] == KD_SIDE_BOTH) {
                 s->ids[nb++] = t;
+                /* reclip reads it next: the scene's triangles are far
+                 * larger than the caches. */
+                __builtin_prefetch(s->tri + 9 * (size_t)t);
+                __builtin_prefetch(s->tri + 9 * (size_t)t + 8);
             }
         } else {
             uint8_t side = key < pkey ? KD_SIDE_LEFT : key > pkey ? KD_SIDE_RIGHT : planar_side;
@@ -126,46 +133,108 @@ static uint32_t reclip(nl_state *s, uint32_t nb, const tt_aabb *cell, uint64_t *
     }
     /* Order among events of equal position and type does not matter: the
      * sweep and classification look only at position and type, and leaves
-     * sort their ids. */
-    for (int k = 0; k < 3; k++) kd_radix_sort_events(out + 2 * (size_t)nb * k, tmp, len[k]);
+     * sort their ids. One triangle's events are in order already (its
+     * START before its END, at a higher position). Most nodes re-clip a
+     * straddler or two: short runs are sorted here, not through calls. */
+    if (kept <= 1) return kept;
+    for (int k = 0; k < 3; k++) {
+        uint64_t *run = out + 2 * (size_t)nb * k;
+        if (len[k] > 16) {
+            kd_radix_sort_events(run, tmp, len[k]);
+            continue;
+        }
+        for (size_t i = 1; i < len[k]; i++) {
+            const uint64_t x = run[i];
+            size_t j = i;
+            for (; j > 0 && run[j - 1] > x; j--) run[j] = run[j - 1];
+            run[j] = x;
+        }
+    }
     return kept;
 }
 
-/* Builds both children's lists in one pass over the parent's: the events
- * of one-sided triangles (their order kept) merged with the re-clipped
- * straddlers' events. Each child's run for an axis is sized for the worst
- * case, two events per triangle, so the split needs no counting pass. */
+/* One axis of a split: the parent's events of one-sided triangles (their
+ * order kept) go to the children's lists ldst and rdst, merged with the
+ * re-clipped straddlers' sorted events lc[0, llen) and rc[0, rlen) as they
+ * go. Each destination has room for one event more than it receives. */
+static void split_axis(const uint8_t *side_of, const uint64_t *ev, size_t n_ev, const uint64_t *lc,
+                       size_t llen, const uint64_t *rc, size_t rlen, uint64_t *ldst, uint64_t *rdst,
+                       size_t *n_left, size_t *n_right)
+{
+    /* The value after a run's last is above every event (type 3 does not
+     * exist). */
+    const uint64_t *lc_end = lc + llen, *rc_end = rc + rlen;
+    uint64_t lnext = lc < lc_end ? *lc : UINT64_MAX, rnext = rc < rc_end ? *rc : UINT64_MAX;
+    size_t nl = 0, nr = 0;
+    for (size_t i = 0; i < n_ev; i++) {
+        const uint64_t e = ev[i];
+        /* Few straddlers against many one-sided triangles: these loops
+         * rarely run, and merging here spares a second pass over the
+         * children's lists. Keys are distinct (a straddler's events left
+         * the parent's list), so the order is the sorted one. */
+        while (lnext < e) {
+            ldst[nl++] = lnext;
+            lnext = ++lc < lc_end ? *lc : UINT64_MAX;
+        }
+        while (rnext < e) {
+            rdst[nr++] = rnext;
+            rnext = ++rc < rc_end ? *rc : UINT64_MAX;
+        }
+        const uint8_t side = side_of[kd_event_tri(e)];
+        /* Branch-free: the sides come in no predictable order. A store past
+         * a run's end lands in the room behind it (the next axis' space,
+         * overwritten later, or a spare slot). */
+        ldst[nl] = e;
+        rdst[nr] = e;
+        _Static_assert(KD_SIDE_LEFT == 1 && KD_SIDE_RIGHT == 2, "side bits");
+        nl += side & KD_SIDE_LEFT;
+        nr += side >> 1; /* KD_SIDE_RIGHT */
+    }
+    while (lc < lc_end) ldst[nl++] = *lc++;
+    while (rc < rc_end) rdst[nr++] = *rc++;
+    *n_left = nl;
+    *n_right = nr;
+}
+
+/* Builds both children's lists in one pass over the parent's (split_axis
+ * for each axis). Each child's run for an axis is sized for the worst
+ * case, two events per triangle, so the split needs no counting pass.
+ *
+ * A big node of a parallel build (own) splits its three axes in tasks:
+ * each axis then writes its own part of the blocks (a stride apart, a
+ * spare slot each, so no task's stray store reaches another's list). The
+ * lists are the same either way. */
 static int child_lists(nl_state *s, const nl_lists *parent, int depth, int own, uint32_t n_left,
                        uint32_t n_right, const uint64_t *lclip, const size_t llen[3],
                        const uint64_t *rclip, const size_t rlen[3], uint32_t nb, nl_lists *left,
                        nl_lists *right)
 {
     const size_t lcap = 2 * (size_t)n_left, rcap = 2 * (size_t)n_right;
-    /* One slot more than the runs need: the filter below writes every
-     * event to both children and advances only the side it belongs to. */
-    if (!get_block(s, depth, 0, 3 * lcap + 1, own, left) ||
-        !get_block(s, depth, 1, 3 * rcap + 1, own, right))
+    const int tasks = own && parent->n[0] + parent->n[1] + parent->n[2] >= 6 * (size_t)kd_par_cutoff;
+    /* One slot more than the runs need (one an axis with tasks): the
+     * filter writes every event to both children and advances only the
+     * side it belongs to. */
+    const size_t extra = tasks ? 3 : 1;
+    if (!get_block(s, depth, 0, 3 * lcap + extra, own, left) ||
+        !get_block(s, depth, 1, 3 * rcap + extra, own, right))
         return 0;
+    if (tasks) {
+        left->stride = lcap + 1;
+        right->stride = rcap + 1;
+        const uint8_t *side_of = s->side;
+        for (int k = 0; k < 3; k++) {
+#pragma omp task firstprivate(k) shared(left, right)
+            split_axis(side_of, axis_list(parent, k), parent->n[k], lclip + 2 * (size_t)nb * k, llen[k],
+                       rclip + 2 * (size_t)nb * k, rlen[k], axis_list(left, k), axis_list(right, k),
+                       &left->n[k], &right->n[k]);
+        }
+#pragma omp taskwait
+        return 1;
+    }
     uint64_t *ldst = left->block, *rdst = right->block;
     for (int k = 0; k < 3; k++) {
-        const uint64_t *ev = axis_list(parent, k);
-        size_t nl = 0, nr = 0;
-        /* Branch-free: the sides come in no predictable order. A store past
-         * a run's end lands in the next axis' space (overwritten later) or
-         * in the spare slot. */
-        for (size_t i = 0; i < parent->n[k]; i++) {
-            const uint64_t e = ev[i];
-            const uint8_t side = s->side[kd_event_tri(e)];
-            ldst[nl] = e;
-            rdst[nr] = e;
-            _Static_assert(KD_SIDE_LEFT == 1 && KD_SIDE_RIGHT == 2, "side bits");
-            nl += side & KD_SIDE_LEFT;
-            nr += side >> 1; /* KD_SIDE_RIGHT */
-        }
-        kd_merge_in_place(ldst, nl, lclip + 2 * (size_t)nb * k, llen[k]);
-        kd_merge_in_place(rdst, nr, rclip + 2 * (size_t)nb * k, rlen[k]);
-        left->n[k] = nl + llen[k];
-        right->n[k] = nr + rlen[k];
+        split_axis(s->side, axis_list(parent, k), parent->n[k], lclip + 2 * (size_t)nb * k, llen[k],
+                   rclip + 2 * (size_t)nb * k, rlen[k], ldst, rdst, &left->n[k], &right->n[k]);
         ldst += left->n[k];
         rdst += right->n[k];
     }
@@ -193,7 +262,8 @@ static int clip_room(nl_state *s, uint32_t nb)
 static tt_status emit_leaf(kd_builder *b, nl_state *s, nl_lists *lists)
 {
     uint32_t m = 0;
-    const uint64_t *ev = axis_list(lists, 0);
+    /* An empty child of a split has no block (split_node). */
+    const uint64_t *ev = lists->n[0] ? axis_list(lists, 0) : NULL;
     for (size_t i = 0; i < lists->n[0]; i++)
         if (kd_event_type(ev[i]) != KD_END) s->ids[m++] = kd_event_tri(ev[i]);
     put_block(s, lists);
@@ -207,6 +277,28 @@ static tt_status split_node(kd_builder *b, nl_state *s, nl_lists *lists, uint32_
                             tt_aabb *lcell, tt_aabb *rcell, uint32_t *n_left, uint32_t *n_right,
                             nl_lists *left, nl_lists *right)
 {
+    if (split->n_left == 0 || split->n_right == 0) {
+        /* A split that cuts off empty space (the sweep's counts are exact
+         * but for straddlers, and there are none: every triangle lies on
+         * one side). That side's lists are the parent's, event for event:
+         * they are handed over, not filtered; the other child is an empty
+         * leaf with no lists. The block stays valid: a pool buffer of a
+         * depth that only a node above this subtree reuses, or one of the
+         * node's own. */
+        const int left_full = split->n_left != 0;
+        kd_split_cell(cell, split, lcell, rcell);
+        kd_account_split(b, n, left_full ? n : 0, left_full ? 0 : n);
+        nl_lists *full = left_full ? left : right, *empty = left_full ? right : left;
+        *full = *lists;
+        empty->block = NULL;
+        empty->n[0] = empty->n[1] = empty->n[2] = 0;
+        empty->owned = 0;
+        empty->stride = 0;
+        lists->block = NULL;
+        *n_left = left_full ? n : 0;
+        *n_right = left_full ? 0 : n;
+        return TT_OK;
+    }
     const uint64_t *ev = axis_list(lists, split->axis);
     const size_t n_ev = lists->n[split->axis];
     uint32_t nl, nr;
@@ -245,7 +337,7 @@ static tt_status build(kd_builder *b, nl_state *s, nl_lists *lists, uint32_t n, 
     if (!kd_should_split(b, n, here->depth, &split)) return emit_leaf(b, s, lists);
     tt_aabb lcell, rcell;
     uint32_t nl, nr;
-    nl_lists left = {NULL, {0, 0, 0}, 0}, right = {NULL, {0, 0, 0}, 0};
+    nl_lists left = {NULL, {0, 0, 0}, 0, 0}, right = {NULL, {0, 0, 0}, 0, 0};
     tt_status st = split_node(b, s, lists, n, cell, &split, here->depth, 0, &lcell, &rcell, &nl, &nr,
                               &left, &right);
     uint32_t node = 0;
@@ -293,28 +385,77 @@ static void state_free(nl_state *s)
     memset(s, 0, sizeof *s);
 }
 
-/* The root's event lists: each axis' run sorted (by three tasks when
- * `tasks`; tmp then holds 6 n keys, else 2 n). Returns the number of
- * triangles that touch the root cell. */
-static uint32_t root_lists(const kd_builder *b, const tt_aabb *root, nl_lists *lists, uint64_t *tmp,
-                           int tasks)
+/* The events of triangles [first, last) of the scene, in triangle order:
+ * axis k's at run_k + 2 first (run_k = block + 2 n k, room for 2 events a
+ * triangle), their counts in count[k]. Returns how many triangles touch
+ * the root cell. */
+static uint32_t root_events(const kd_builder *b, const tt_aabb *root, uint64_t *block, uint32_t first,
+                            uint32_t last, size_t count[3])
 {
-    const uint32_t n = b->tri_count;
-    /* Axis runs of 2 n events each at first, compacted below. */
+    const size_t n = b->tri_count;
     uint32_t m = 0;
-    for (uint32_t i = 0; i < n; i++) {
+    count[0] = count[1] = count[2] = 0;
+    for (uint32_t i = first; i < last; i++) {
         tt_aabb box;
         if (!kd_clip_triangle(b->tri + 9 * (size_t)i, root, &box)) continue;
         m++;
         for (int k = 0; k < 3; k++)
-            lists->n[k] += kd_events_of(lists->block + 2 * (size_t)n * k + lists->n[k], box.lo[k],
-                                        box.hi[k], i);
+            count[k] += kd_events_of(block + 2 * n * k + 2 * (size_t)first + count[k], box.lo[k],
+                                     box.hi[k], i);
     }
+    return m;
+}
+
+/* Root triangles a chunk of the events' generation takes at least, and
+ * the most chunks. */
+#define ROOT_CHUNK_MIN 16384u
+#define ROOT_CHUNKS_MAX 32
+
+/* The root's event lists: each axis' run sorted. With `tasks` (inside a
+ * parallel region) the events are generated by a task per chunk of
+ * triangles and each axis is sorted by a task of its own; tmp then holds 6
+ * n keys, else 2 n. Either way a run lists its events in triangle order
+ * before the (stable) sort, so the lists are the same. Returns the number
+ * of triangles that touch the root cell. */
+static uint32_t root_lists(const kd_builder *b, const tt_aabb *root, nl_lists *lists, uint64_t *tmp,
+                           int tasks)
+{
+    const uint32_t n = b->tri_count;
+    int chunks = 1;
+    if (tasks) {
+        chunks = omp_get_num_threads();
+        if (chunks > ROOT_CHUNKS_MAX) chunks = ROOT_CHUNKS_MAX;
+        if ((uint32_t)chunks > n / ROOT_CHUNK_MIN) chunks = (int)(n / ROOT_CHUNK_MIN);
+        if (chunks < 1) chunks = 1;
+    }
+    size_t count[ROOT_CHUNKS_MAX][3];
+    uint32_t kept[ROOT_CHUNKS_MAX];
+    uint64_t *block = lists->block;
+    for (int c = 0; c < chunks; c++) {
+        const uint32_t first = (uint32_t)((uint64_t)n * (uint64_t)c / (uint64_t)chunks);
+        const uint32_t last = (uint32_t)((uint64_t)n * (uint64_t)(c + 1) / (uint64_t)chunks);
+#pragma omp task firstprivate(c, first, last) shared(count, kept) if (chunks > 1)
+        kept[c] = root_events(b, root, block, first, last, count[c]);
+    }
+#pragma omp taskwait
+    uint32_t m = 0;
+    for (int c = 0; c < chunks; c++) m += kept[c];
     for (int k = 0; k < 3; k++) {
-        uint64_t *run = lists->block + 2 * (size_t)n * k, *t = tmp + (tasks ? 2 * (size_t)n * k : 0);
-        const size_t len = lists->n[k];
-#pragma omp task firstprivate(run, t, len) if (tasks)
-        kd_radix_sort_events(run, t, len);
+        uint64_t *run = block + 2 * (size_t)n * k, *t = tmp + (tasks ? 2 * (size_t)n * k : 0);
+        lists->n[k] = 0;
+        for (int c = 0; c < chunks; c++) lists->n[k] += count[c][k];
+#pragma omp task firstprivate(run, t, k) shared(count) if (tasks)
+        {
+            /* Axis runs of 2 n events each at first; the chunks' parts
+             * are moved together (down, in chunk order), then sorted. */
+            size_t len = count[0][k];
+            for (int c = 1; c < chunks; c++) {
+                const size_t first = (size_t)((uint64_t)n * (uint64_t)c / (uint64_t)chunks);
+                memmove(run + len, run + 2 * first, count[c][k] * sizeof *run);
+                len += count[c][k];
+            }
+            kd_radix_sort_events(run, t, len);
+        }
     }
 #pragma omp taskwait
     size_t at = 0;
@@ -370,7 +511,7 @@ static tt_status par_build(nl_par *p, kd_sub *sub, nl_lists *lists, uint32_t n, 
         return build(b, s, lists, n, cell, &here);
     tt_aabb lcell, rcell;
     uint32_t nl, nr;
-    nl_lists left = {NULL, {0, 0, 0}, 1}, right = {NULL, {0, 0, 0}, 1};
+    nl_lists left = {NULL, {0, 0, 0}, 1, 0}, right = {NULL, {0, 0, 0}, 1, 0};
     tt_status st = split_node(b, s, lists, n, cell, &split, here.depth, 1, &lcell, &rcell, &nl, &nr,
                               &left, &right);
     if (st == TT_OK) {
@@ -400,7 +541,7 @@ static tt_status build_parallel(kd_builder *b, const tt_aabb *root, int threads)
     const uint32_t n = b->tri_count;
     kd_par par = {0, 0, 0};
     nl_par p = {b, NULL};
-    nl_lists lists = {NULL, {0, 0, 0}, 1};
+    nl_lists lists = {NULL, {0, 0, 0}, 1, 0};
     p.scratch = tt_calloc(b->ctx, (size_t)threads, sizeof *p.scratch);
     lists.block = tt_alloc_array(b->ctx, 6 * (size_t)n, sizeof *lists.block);
     uint64_t *tmp = tt_alloc_array(b->ctx, 6 * (size_t)n, sizeof *tmp);
@@ -441,7 +582,7 @@ tt_status kd_build_nlogn(kd_builder *b, const tt_aabb *root)
     }
     nl_state s;
     state_init(&s, b);
-    nl_lists lists = {NULL, {0, 0, 0}, 1};
+    nl_lists lists = {NULL, {0, 0, 0}, 1, 0};
     lists.block = tt_alloc_array(b->ctx, 6 * (size_t)n, sizeof *lists.block);
     uint64_t *tmp = tt_alloc_array(b->ctx, 2 * (size_t)n, sizeof *tmp);
     tt_status st;

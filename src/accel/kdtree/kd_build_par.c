@@ -93,9 +93,71 @@ static tt_status replay_nodes(kd_builder *b, kd_builder *sub, uint32_t i, const 
     return replay_nodes(b, sub, tt_kd_right(x.bits), &r, &child);
 }
 
+/* A serially built subtree below the root, appended whole: the serial
+ * build would emit its nodes, references and sparse boxes in the order the
+ * subtree's own build did (depth first), so only indices move: the
+ * references' first, the right-child links and the boxes' records by where
+ * the subtree lands, and a box record's parent outside the subtree (none
+ * in it) becomes the subtree's. The subtree was built at its real place
+ * (depth and distance to the nearest box), so its boxes are where the
+ * serial build puts them. Much faster than re-emitting node by node, which
+ * ran alone at the end of a parallel build. */
+static tt_status append_subtree(kd_builder *b, kd_builder *sub, const tt_aabb *cell,
+                                const kd_place *here)
+{
+    const uint32_t node_off = b->node_count, aug_off = b->aug_count;
+    const size_t ref_off = b->ref_count;
+    /* kd_replay sized the arrays unless the tree passes the layout's
+     * limits: then the node by node emission reports which. */
+    if ((size_t)node_off + sub->node_count > b->node_cap || ref_off + sub->ref_count > b->ref_cap ||
+        ref_off + sub->ref_count > UINT32_MAX)
+        return replay_nodes(b, sub, 0, cell, here);
+    if (sub->aug_count > b->aug_cap - b->aug_count) {
+        uint32_t cap = b->aug_cap ? b->aug_cap : 256;
+        while (cap - b->aug_count < sub->aug_count) cap *= 2;
+        tt_kd_aug *p = tt_realloc_array(b->ctx, b->aug, cap, sizeof *p);
+        if (!p) return kd_oom(b);
+        b->aug = p;
+        b->aug_cap = cap;
+    }
+    tt_kd_node *out = b->nodes + node_off;
+    for (uint32_t i = 0; i < sub->node_count; i++) {
+        tt_kd_node x = sub->nodes[i];
+        if (tt_kd_is_leaf(x.bits)) {
+            x.u.first += (uint32_t)ref_off;
+        } else {
+            x.bits += node_off << 3; /* the right child's index */
+            if (tt_kd_is_aug(x.bits)) {
+                /* The extension slot behind it holds the box's record. */
+                out[i] = x;
+                i++;
+                x = sub->nodes[i];
+                x.u.first += aug_off;
+            }
+        }
+        out[i] = x;
+    }
+    if (sub->ref_count) memcpy(b->refs + ref_off, sub->refs, sub->ref_count * sizeof *b->refs);
+    for (uint32_t r = 0; r < sub->aug_count; r++) {
+        tt_kd_aug a = sub->aug[r];
+        a.node += node_off;
+        a.parent = a.parent == TT_KD_NO_PARENT ? here->parent_aug : a.parent + aug_off;
+        b->aug[aug_off + r] = a;
+    }
+    b->node_count += sub->node_count;
+    b->ref_count += sub->ref_count;
+    b->aug_count += sub->aug_count;
+    return TT_OK;
+}
+
 static tt_status replay(kd_builder *b, kd_sub *s, const tt_aabb *cell, const kd_place *here)
 {
-    if (s->split.axis < 0) return replay_nodes(b, &s->out, 0, cell, here);
+    if (s->split.axis < 0) {
+        /* The root itself (its box is record 0, made before the build) is
+         * re-emitted node by node. */
+        if (here->depth == 0) return replay_nodes(b, &s->out, 0, cell, here);
+        return append_subtree(b, &s->out, cell, here);
+    }
     uint32_t me;
     kd_place child;
     tt_status st = kd_emit_interior(b, &s->split, cell, here, &me, &child);

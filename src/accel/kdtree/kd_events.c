@@ -52,46 +52,6 @@ void kd_sort_events(uint64_t *keys, uint64_t *tmp, size_t n)
     if (src != keys) memcpy(keys, src, n * sizeof *keys);
 }
 
-/* First index in a[0, n) whose key is greater than x. */
-static size_t upper_bound(const uint64_t *a, size_t n, uint64_t x)
-{
-    size_t lo = 0, hi = n;
-    while (lo < hi) {
-        size_t mid = lo + (hi - lo) / 2;
-        if (a[mid] <= x) lo = mid + 1;
-        else hi = mid;
-    }
-    return lo;
-}
-
-void kd_merge_in_place(uint64_t *run, size_t n_run, const uint64_t *b, size_t n_b)
-{
-    if (n_b == 0) return;
-    if (n_b * 32 > n_run) {
-        /* Not that short: a plain merge from the back into the free room at
-         * the end (the write index stays above the run's read index), which
-         * stops when b is used up: the run's keys below b's smallest stay
-         * where they are. Branch-free, like kd_merge_events. */
-        size_t i = n_run, j = n_b, k = n_run + n_b;
-        while (i > 0 && j > 0) {
-            const uint64_t x = run[i - 1], y = b[j - 1];
-            const int take_run = x > y;
-            run[--k] = take_run ? x : y;
-            i -= take_run;
-            j -= !take_run;
-        }
-        while (j > 0) run[--k] = b[--j];
-        return;
-    }
-    size_t hi = n_run;
-    for (size_t j = n_b; j-- > 0;) {
-        size_t pos = upper_bound(run, hi, b[j]);
-        memmove(run + pos + j + 1, run + pos, (hi - pos) * sizeof *run);
-        run[pos + j] = b[j];
-        hi = pos;
-    }
-}
-
 /* The sorted bits 30 .. 63 in digits of 11, 11 and 12 bits. */
 #define RADIX_SHORT 256
 

@@ -79,10 +79,4 @@ void kd_radix_sort_events(uint64_t *keys, uint64_t *tmp, size_t n);
 /* Merges two sorted runs into out (n_a + n_b keys). */
 void kd_merge_events(const uint64_t *a, size_t n_a, const uint64_t *b, size_t n_b, uint64_t *out);
 
-/* Merges the sorted run b into the sorted run[0, n_run), which has room for
- * n_b more. When b is much shorter (few re-clipped straddlers against many
- * one-sided triangles), each of b's keys finds its place by binary search
- * and the keys behind it move once, in blocks: O(n_b log n_run) compares. */
-void kd_merge_in_place(uint64_t *run, size_t n_run, const uint64_t *b, size_t n_b);
-
 #endif
