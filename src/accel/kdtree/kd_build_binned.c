@@ -95,8 +95,10 @@ static kd_split find_split(const kd_builder *b, const kd_bref *r, uint32_t n, co
     }
     kd_split s = kd_bin_best(b, &bins, &g, n, bounds, cell);
     /* The binned counts are an estimate; the budget and the comparison
-     * with a leaf take the plane's exact ones. */
-    if (s.axis >= 0) kd_bin_count_sides(b, r, n, cell, &s);
+     * with a leaf take the plane's exact ones. A plane beside the boxes
+     * (an empty side) has them already: kd_bin_best counts every box on
+     * one side there, as kd_classify would. */
+    if (s.axis >= 0 && s.n_left != 0 && s.n_right != 0) kd_bin_count_sides(b, r, n, cell, &s);
     return s;
 }
 
