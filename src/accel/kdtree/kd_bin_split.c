@@ -62,23 +62,37 @@ kd_bin_grid kd_bin_grid_of(const kd_bbox *bounds, uint32_t n)
     return g;
 }
 
+/* Four floats and four lanes of comparison masks (GCC/Clang vector
+ * extensions: plain SSE2 or NEON, no ISA-specific unit needed). */
+typedef float v4f __attribute__((vector_size(16)));
+typedef int32_t v4i __attribute__((vector_size(16)));
+
 void kd_bin_count(const kd_bref *refs, uint32_t n, const kd_bin_grid *g, kd_bins *bins)
 {
-    /* Clamped in float before the conversion (min/max, no branches; NaN
-     * compares false and becomes 0): boxes on the union's upper faces land
-     * in the last bin. */
+    /* A reference's lo and hi read 16 bytes at a time (lane 3, the next
+     * field, has origin and scale 0 and is never used). Clamped in float
+     * before the conversion (NaN compares false and becomes 0): boxes on
+     * the union's upper faces land in the last bin. */
     const float top = (float)(g->bins - 1);
+    const v4f org = {g->lo[0], g->lo[1], g->lo[2], 0.0f};
+    const v4f sc = {g->scale[0], g->scale[1], g->scale[2], 0.0f};
+    const v4f zero = {0.0f, 0.0f, 0.0f, 0.0f}, tops = {top, top, top, top};
     for (uint32_t i = 0; i < n; i++) {
-        const kd_bref *r = &refs[i];
+        v4f f, h;
+        memcpy(&f, refs[i].lo, sizeof f);
+        memcpy(&h, refs[i].hi, sizeof h);
+        f = (f - org) * sc;
+        h = (h - org) * sc;
+        f = (v4f)((v4i)f & (f > zero));
+        h = (v4f)((v4i)h & (h > zero));
+        v4i t = f < tops;
+        f = (v4f)(((v4i)f & t) | ((v4i)tops & ~t));
+        t = h < tops;
+        h = (v4f)(((v4i)h & t) | ((v4i)tops & ~t));
+        const v4i fi = __builtin_convertvector(f, v4i), hi = __builtin_convertvector(h, v4i);
         for (int k = 0; k < 3; k++) {
-            float f = (r->lo[k] - g->lo[k]) * g->scale[k];
-            float h = (r->hi[k] - g->lo[k]) * g->scale[k];
-            f = f > 0.0f ? f : 0.0f;
-            h = h > 0.0f ? h : 0.0f;
-            f = f < top ? f : top;
-            h = h < top ? h : top;
-            bins->start[k][(int)f]++;
-            bins->end[k][(int)h]++;
+            bins->start[k][fi[k]]++;
+            bins->end[k][hi[k]]++;
         }
     }
 }
@@ -124,11 +138,6 @@ kd_split kd_bin_best(const kd_builder *b, const kd_bins *bins, const kd_bin_grid
     }
     return best;
 }
-
-/* Four floats and four lanes of comparison masks (GCC/Clang vector
- * extensions: plain SSE2 or NEON, no ISA-specific unit needed). */
-typedef float v4f __attribute__((vector_size(16)));
-typedef int32_t v4i __attribute__((vector_size(16)));
 
 static inline uint32_t lanes(v4i m) { return (uint32_t)-(m[0] + m[1] + m[2] + m[3]); }
 
