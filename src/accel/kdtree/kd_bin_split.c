@@ -62,23 +62,37 @@ kd_bin_grid kd_bin_grid_of(const kd_bbox *bounds, uint32_t n)
     return g;
 }
 
+/* Four floats and four lanes of comparison masks (GCC/Clang vector
+ * extensions: plain SSE2 or NEON, no ISA-specific unit needed). */
+typedef float v4f __attribute__((vector_size(16)));
+typedef int32_t v4i __attribute__((vector_size(16)));
+
 void kd_bin_count(const kd_bref *refs, uint32_t n, const kd_bin_grid *g, kd_bins *bins)
 {
-    /* Clamped in float before the conversion (min/max, no branches; NaN
-     * compares false and becomes 0): boxes on the union's upper faces land
-     * in the last bin. */
+    /* A reference's lo and hi read 16 bytes at a time (lane 3, the next
+     * field, has origin and scale 0 and is never used). Clamped in float
+     * before the conversion (NaN compares false and becomes 0): boxes on
+     * the union's upper faces land in the last bin. */
     const float top = (float)(g->bins - 1);
+    const v4f org = {g->lo[0], g->lo[1], g->lo[2], 0.0f};
+    const v4f sc = {g->scale[0], g->scale[1], g->scale[2], 0.0f};
+    const v4f zero = {0.0f, 0.0f, 0.0f, 0.0f}, tops = {top, top, top, top};
     for (uint32_t i = 0; i < n; i++) {
-        const kd_bref *r = &refs[i];
+        v4f f, h;
+        memcpy(&f, refs[i].lo, sizeof f);
+        memcpy(&h, refs[i].hi, sizeof h);
+        f = (f - org) * sc;
+        h = (h - org) * sc;
+        f = (v4f)((v4i)f & (f > zero));
+        h = (v4f)((v4i)h & (h > zero));
+        v4i t = f < tops;
+        f = (v4f)(((v4i)f & t) | ((v4i)tops & ~t));
+        t = h < tops;
+        h = (v4f)(((v4i)h & t) | ((v4i)tops & ~t));
+        const v4i fi = __builtin_convertvector(f, v4i), hi = __builtin_convertvector(h, v4i);
         for (int k = 0; k < 3; k++) {
-            float f = (r->lo[k] - g->lo[k]) * g->scale[k];
-            float h = (r->hi[k] - g->lo[k]) * g->scale[k];
-            f = f > 0.0f ? f : 0.0f;
-            h = h > 0.0f ? h : 0.0f;
-            f = f < top ? f : top;
-            h = h < top ? h : top;
-            bins->start[k][(int)f]++;
-            bins->end[k][(int)h]++;
+            bins->start[k][fi[k]]++;
+            bins->end[k][hi[k]]++;
         }
     }
 }
@@ -125,47 +139,54 @@ kd_split kd_bin_best(const kd_builder *b, const kd_bins *bins, const kd_bin_grid
     return best;
 }
 
-/* Four floats and four lanes of comparison masks (GCC/Clang vector
- * extensions: plain SSE2 or NEON, no ISA-specific unit needed). */
-typedef float v4f __attribute__((vector_size(16)));
-typedef int32_t v4i __attribute__((vector_size(16)));
-
 static inline uint32_t lanes(v4i m) { return (uint32_t)-(m[0] + m[1] + m[2] + m[3]); }
+
+/* One axis of kd_bin_exact_small over W vectors of bounds (W constant in
+ * each inlined copy: the count loops unroll). */
+static inline void exact_axis(const kd_builder *b, const cell_terms *t, const kd_bref *refs, uint32_t n,
+                              const tt_aabb *cell, int k, int W, kd_split *best)
+{
+    /* The boxes' bounds on this axis; unused slots count nowhere. */
+    float fl[KD_BIN_SMALL], fh[KD_BIN_SMALL];
+    for (int i = 0; i < 4 * W; i++) {
+        fl[i] = (uint32_t)i < n ? refs[i].lo[k] : INFINITY;
+        fh[i] = (uint32_t)i < n ? refs[i].hi[k] : -INFINITY;
+    }
+    v4f lo[KD_BIN_SMALL / 4], hi[KD_BIN_SMALL / 4];
+    memcpy(lo, fl, sizeof lo);
+    memcpy(hi, fh, sizeof hi);
+    for (uint32_t c = 0; c < 2 * n; c++) {
+        const float p = c < n ? fl[c] : fh[c - n];
+        /* A flat box's upper bound is its lower one: tried already. */
+        if (c >= n && p == fl[c - n]) continue;
+        if (!(p > cell->lo[k] && p < cell->hi[k])) continue;
+        /* kd_classify's sides: a box starting below p is left (or
+         * both), one ending above p right (or both), one lying in p on
+         * the planar side. */
+        const v4f pv = {p, p, p, p};
+        v4i l = {0, 0, 0, 0}, r = l, in = l;
+        for (int j = 0; j < W; j++) {
+            l += lo[j] < pv;
+            r += hi[j] > pv;
+            in += (lo[j] == pv) & (hi[j] == pv);
+        }
+        const uint32_t nl = lanes(l), nr = lanes(r), planar = lanes(in);
+        /* Planar boxes right, then left (the sweep's order of trial). */
+        consider(b, t, cell, k, p, 0, nl, nr + planar, best);
+        if (planar) consider(b, t, cell, k, p, 1, nl + planar, nr, best);
+    }
+}
 
 kd_split kd_bin_exact_small(const kd_builder *b, const kd_bref *refs, uint32_t n, const tt_aabb *cell)
 {
     kd_split best = {-1, 0.0f, 0, INFINITY, 0, 0};
     const cell_terms t = terms_of(cell);
     if (!t.ok) return best;
-    enum { W = KD_BIN_SMALL / 4 };
     for (int k = 0; k < 3; k++) {
-        /* The boxes' bounds on this axis; unused slots count nowhere. */
-        float fl[4 * W], fh[4 * W];
-        for (uint32_t i = 0; i < 4 * W; i++) {
-            fl[i] = i < n ? refs[i].lo[k] : INFINITY;
-            fh[i] = i < n ? refs[i].hi[k] : -INFINITY;
-        }
-        v4f lo[W], hi[W];
-        memcpy(lo, fl, sizeof lo);
-        memcpy(hi, fh, sizeof hi);
-        for (uint32_t c = 0; c < 2 * n; c++) {
-            const float p = c < n ? refs[c].lo[k] : refs[c - n].hi[k];
-            if (!(p > cell->lo[k] && p < cell->hi[k])) continue;
-            /* kd_classify's sides: a box starting below p is left (or
-             * both), one ending above p right (or both), one lying in p on
-             * the planar side. */
-            const v4f pv = {p, p, p, p};
-            v4i l = {0, 0, 0, 0}, r = l, in = l;
-            for (int j = 0; j < W; j++) {
-                l += lo[j] < pv;
-                r += hi[j] > pv;
-                in += (lo[j] == pv) & (hi[j] == pv);
-            }
-            const uint32_t nl = lanes(l), nr = lanes(r), planar = lanes(in);
-            /* Planar boxes right, then left (the sweep's order of trial). */
-            consider(b, &t, cell, k, p, 0, nl, nr + planar, &best);
-            if (planar) consider(b, &t, cell, k, p, 1, nl + planar, nr, &best);
-        }
+        if (n <= 4) exact_axis(b, &t, refs, n, cell, k, 1, &best);
+        else if (n <= 8) exact_axis(b, &t, refs, n, cell, k, 2, &best);
+        else if (n <= 12) exact_axis(b, &t, refs, n, cell, k, 3, &best);
+        else exact_axis(b, &t, refs, n, cell, k, 4, &best);
     }
     return best;
 }

@@ -95,8 +95,10 @@ static kd_split find_split(const kd_builder *b, const kd_bref *r, uint32_t n, co
     }
     kd_split s = kd_bin_best(b, &bins, &g, n, bounds, cell);
     /* The binned counts are an estimate; the budget and the comparison
-     * with a leaf take the plane's exact ones. */
-    if (s.axis >= 0) kd_bin_count_sides(b, r, n, cell, &s);
+     * with a leaf take the plane's exact ones. A plane beside the boxes
+     * (an empty side) has them already: kd_bin_best counts every box on
+     * one side there, as kd_classify would. */
+    if (s.axis >= 0 && s.n_left != 0 && s.n_right != 0) kd_bin_count_sides(b, r, n, cell, &s);
     return s;
 }
 
@@ -234,14 +236,23 @@ static tt_status build(kd_builder *b, bin_stack *st, size_t base, uint32_t n, co
     if (n > 0 && here->depth < b->max_depth) s = find_split(b, st->ref + base, n, cell, bounds, 0);
     if (!kd_should_split(b, n, here->depth, &s)) return emit_leaf(b, st, base, n);
     uint32_t nl = s.n_left, nr = s.n_right;
-    tt_status e = reserve(b, st, base + n + nl);
+    tt_status e = reserve(b, st, base + n + (nr ? nl : 0));
     if (e != TT_OK) return e;
     kd_bbox lb, rb;
-    /* The left child's references above the node's, then moved down onto
-     * the right child's. */
     kd_bref *r = st->ref + base;
-    partition(b, r, n, &s, r + n, &lb, &rb, &nl, &nr);
-    memmove(r + nr, r + n, (size_t)nl * sizeof *r);
+    if (nl == 0 || nr == 0) {
+        /* A plane beside the boxes (the counts are exact): no box
+         * straddles it, so the one child's references are the node's as
+         * they are, in place (what the partition would make of them, for
+         * nothing; a third of the splits on conference). */
+        lb = *bounds;
+        rb = *bounds;
+    } else {
+        /* The left child's references above the node's, then moved down
+         * onto the right child's. */
+        partition(b, r, n, &s, r + n, &lb, &rb, &nl, &nr);
+        memmove(r + nr, r + n, (size_t)nl * sizeof *r);
+    }
     kd_account_split(b, n, nl, nr);
     tt_aabb lcell, rcell;
     kd_split_cell(cell, &s, &lcell, &rcell);
