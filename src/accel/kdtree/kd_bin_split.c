@@ -102,15 +102,7 @@ static inline void consider(const kd_builder *b, const cell_terms *t, const tt_a
 {
     /* Only planes strictly inside the cell (kd_sweep's rule). */
     if (!(pos > cell->lo[axis] && pos < cell->hi[axis])) return;
-    const double c = cost_at(b, t, cell, axis, pos, nl, nr);
-    if (c < best->cost) {
-        best->cost = c;
-        best->axis = axis;
-        best->pos = pos;
-        best->planar_left = planar_left;
-        best->n_left = nl;
-        best->n_right = nr;
-    }
+    kd_split_offer(best, cost_at(b, t, cell, axis, pos, nl, nr), axis, pos, planar_left, nl, nr);
 }
 
 kd_split kd_bin_best(const kd_builder *b, const kd_bins *bins, const kd_bin_grid *g, uint32_t n,

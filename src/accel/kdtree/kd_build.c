@@ -73,14 +73,7 @@ void kd_sweep(const kd_builder *b, const uint64_t *ev, size_t n_ev, uint32_t n,
                     r2 = r1;
                 }
             }
-            if (c < best->cost) {
-                best->cost = c;
-                best->axis = axis;
-                best->pos = p;
-                best->planar_left = planar_left;
-                best->n_left = l2;
-                best->n_right = r2;
-            }
+            kd_split_offer(best, c, axis, p, planar_left, l2, r2);
         }
         nl += starts + planars;
     }

@@ -59,6 +59,21 @@ typedef struct kd_builder {
     uint32_t aug_count, aug_cap;
 } kd_builder;
 
+/* Keeps a candidate split in *best when it is strictly cheaper (the first
+ * of equal costs wins, which keeps every builder deterministic). */
+static inline void kd_split_offer(kd_split *best, double cost, int axis, float pos,
+                                  int planar_left, uint32_t n_left, uint32_t n_right)
+{
+    if (cost < best->cost) {
+        best->cost = cost;
+        best->axis = axis;
+        best->pos = pos;
+        best->planar_left = planar_left;
+        best->n_left = n_left;
+        best->n_right = n_right;
+    }
+}
+
 /* Sweeps one axis' sorted events (Wald & Havran's planar-aware sweep) and
  * keeps the cheapest split strictly inside the cell in *best. n is the
  * number of triangles in the node. */
