@@ -120,19 +120,8 @@ static inline int kd_leaf_gather(const tt_kd_view *T, tt_kd_node leaf, const tt_
     uint32_t count = tt_kd_leaf_count(leaf.bits);
     const uint32_t *refs = T->refs + leaf.u.first;
     if (count < TT_KD_GATHER_MIN) {
-        for (uint32_t i = 0; i < count; i++) {
-            const uint32_t id = refs[i];
-            const float *p = T->tri + 9 * (size_t)id;
-            float t, u, v;
-            if (tt_intersect_triangle(r, p, p + 3, p + 6, best->t, &t, &u, &v)) {
-                best->t = t;
-                best->u = u;
-                best->v = v;
-                best->prim = id;
-                if (any) return 1;
-            }
-        }
-        return 0;
+        uint32_t tested;
+        return tt_kd_leaf_refs(T, refs, count, r, any, best, &tested);
     }
     for (; count; refs += 8) {
         const uint32_t n = count < 8u ? count : 8u;

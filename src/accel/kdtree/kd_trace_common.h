@@ -139,20 +139,10 @@ TT_HD int TT_VARIANT(tt_kd_leaf)(const tt_kd_view *T, tt_kd_node leaf, const tt_
     (void)stats;
     TT_COUNT(stats, leaves, 1);
     TT_COUNT(stats, nodes, 1);
-    for (uint32_t i = 0; i < count; i++) {
-        const uint32_t id = TT_LDG(&refs[i]);
-        const float *p = T->tri + 9 * (size_t)id;
-        float t, u, v;
-        TT_COUNT(stats, triangles, 1);
-        if (tt_intersect_triangle(r, p, p + 3, p + 6, best->t, &t, &u, &v)) {
-            best->t = t;
-            best->u = u;
-            best->v = v;
-            best->prim = id;
-            if (any) return 1;
-        }
-    }
-    return 0;
+    uint32_t tested;
+    const int hit = tt_kd_leaf_refs(T, refs, count, r, any, best, &tested);
+    TT_COUNT(stats, triangles, tested);
+    return hit;
 #endif
 }
 
