@@ -180,7 +180,6 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                 float org[3], dir[3], tmin, tmax;
                 tt_hit h;
                 int occ = 0;
-                tt_hit_clear(&h);
                 load_ray(rays, i, org, dir, &tmin, &tmax);
                 tt_status rs = check_ray(org, dir, tmin, tmax);
                 if (rs == TT_OK) {
@@ -192,6 +191,7 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                     else if (o->stats) occ = vt->occluded_stats(accel, &w, &args, &local);
                     else occ = vt->occluded(accel, &w, &args);
                 } else {
+                    if (hits) tt_hit_clear(&h);
                     if (i < bad) bad = i;
                     bad_count++;
                 }
