@@ -115,12 +115,6 @@ tt_status kd_build_nlogn(kd_builder *b, const tt_aabb *root);
 tt_status kd_build_nlog2n(kd_builder *b, const tt_aabb *root);
 tt_status kd_build_binned(kd_builder *b, const tt_aabb *root);
 
-/* A triangle with the bounds of its part inside the node's cell. */
-typedef struct kd_item {
-    uint32_t tri;
-    tt_aabb box;
-} kd_item;
-
 /* Sets the context's error message; safe from concurrent tasks. */
 tt_status kd_fail(kd_builder *b, tt_status st, const char *fmt, ...);
 tt_status kd_oom(kd_builder *b);

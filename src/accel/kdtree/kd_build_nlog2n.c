@@ -15,7 +15,12 @@
 #include "accel/kdtree/kd_build_par.h"
 #include "accel/kdtree/kd_clip.h"
 
-typedef kd_item item;
+/* A triangle with the bounds of its part inside the node's cell (only
+ * this builder keeps them; the binned one has its own reference boxes). */
+typedef struct item {
+    uint32_t tri;
+    tt_aabb box;
+} item;
 
 typedef struct n2_state {
     tt_context *ctx;
