@@ -15,11 +15,11 @@
  *
  * The names generated this way (each X has an X_stats twin):
  *   bruteforce/bruteforce_trace.h   tt_bf_intersect, tt_bf_occluded
- *   rtree/rtree_trace*.h            tt_rt_trace (and the tt_rt_stackless, tt_rt_ordered,
+ *   rtree/trace/rtree_trace*.h         tt_rt_trace (and the tt_rt_stackless, tt_rt_ordered,
  *                                   tt_rt_stack it chooses among; tt_rt_leaf)
- *   rtree/rtc_trace_stack.h         tt_rtc_stack_<isa> (RTC_FN adds the ISA)
- *   rtree/rtc_trace_stackless.h     tt_rtc_stackless
- *   kdtree/kd_trace.h               tt_kd_intersect, tt_kd_occluded (over tt_kd_trace,
+ *   rtree/trace/rtc_trace_stack.h      tt_rtc_stack_<isa> (RTC_FN adds the ISA)
+ *   rtree/trace/rtc_trace_stackless.h  tt_rtc_stackless
+ *   kdtree/trace/kd_trace.h            tt_kd_intersect, tt_kd_occluded (over tt_kd_trace,
  *                                   tt_kd_htr, tt_kd_btr, tt_kd_stackless and their steps)
  *   render/trace_tile.h             primary_tile, shadow_tile
  *   cuda/gpu_pixel_*.h              tt_gpu_rt_*, tt_gpu_rtc_*, tt_gpu_kd_* (device code) */

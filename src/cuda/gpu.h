@@ -10,8 +10,8 @@
 #include <stdint.h>
 
 #include "accel/kdtree/kd_layout.h"
-#include "accel/rtree/rtc_layout.h"
-#include "accel/rtree/rtree_packed.h"
+#include "accel/rtree/layout/rtc_layout.h"
+#include "accel/rtree/layout/rtree_packed.h"
 #include "render/camera_hd.h"
 #include "treetrace/treetrace.h"
 

@@ -4,7 +4,7 @@
  * and the shadow ray from its hit started from the node the primary ray
  * ended in, exactly as the CPU renderer starts them. Compiled as C by
  * tests/cuda/test_single_source.c too. */
-#include "accel/kdtree/kd_trace.h"
+#include "accel/kdtree/trace/kd_trace.h"
 #include "render/camera_hd.h"
 
 /* The primary ray of pixel (x, y) with `traversal` (TT_KD_SLTR or

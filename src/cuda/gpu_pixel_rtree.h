@@ -5,9 +5,9 @@
  * these; tests/cuda/test_single_source.c compiles this same header as C
  * with TT_NO_SIMD and checks it ray by ray against bruteforce, so the CPU
  * tests run exactly the code the GPU runs. */
-#include "accel/rtree/rtree_trace_ordered.h"
-#include "accel/rtree/rtree_trace_stackless.h"
-#include "accel/rtree/rtc_trace_stackless.h"
+#include "accel/rtree/trace/rtree_trace_ordered.h"
+#include "accel/rtree/trace/rtree_trace_stackless.h"
+#include "accel/rtree/trace/rtc_trace_stackless.h"
 #include "render/camera_hd.h"
 
 #ifndef TT_CUDA_GPU_PIXEL_RTREE_ONCE

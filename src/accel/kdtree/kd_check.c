@@ -18,7 +18,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "accel/kdtree/kd_clip.h"
+#include "accel/kdtree/build/kd_clip.h"
 #include "accel/kdtree/kd_tree.h"
 #include "io/scene.h"
 

@@ -9,7 +9,7 @@
 
 #include "accel/accel.h"
 #include "accel/kdtree/kd_layout.h"
-#include "accel/kdtree/kd_trace_cpu.h"
+#include "accel/kdtree/trace/kd_trace_cpu.h"
 
 typedef struct tt_kdtree {
     tt_kd_node *nodes;

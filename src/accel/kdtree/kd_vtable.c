@@ -2,7 +2,7 @@
  * structure: the dispatch table and its glue. */
 #include "accel/kdtree/kd_tree.h"
 
-#include "accel/kdtree/kd_trace_cpu.h"
+#include "accel/kdtree/trace/kd_trace_cpu.h"
 
 int tt_kdtree_dmin(const tt_kdtree_options *o)
 {

@@ -7,8 +7,8 @@
 #ifndef TT_ACCEL_RTREE_RTC_H
 #define TT_ACCEL_RTREE_RTC_H
 
-#include "accel/rtree/rtc_layout.h"
-#include "accel/rtree/rtree_build.h"
+#include "accel/rtree/layout/rtc_layout.h"
+#include "accel/rtree/build/rtree_build.h"
 #include "core/context.h"
 #include "io/scene.h"
 

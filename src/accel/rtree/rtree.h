@@ -4,8 +4,8 @@
 #define TT_ACCEL_RTREE_RTREE_H
 
 #include "accel/accel.h"
-#include "accel/rtree/rtree_build.h"
-#include "accel/rtree/rtree_packed.h"
+#include "accel/rtree/build/rtree_build.h"
+#include "accel/rtree/layout/rtree_packed.h"
 #include "accel/rtree/rtc.h"
 
 typedef struct rt_tree {

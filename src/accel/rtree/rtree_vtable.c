@@ -5,18 +5,18 @@
  * per ISA or its stackless traversal (rtc_trace_*). */
 #include "accel/rtree/rtree.h"
 #include "accel/rtree/rtree_box.h"
-#include "accel/rtree/rtree_bulk.h"
+#include "accel/rtree/build/rtree_bulk.h"
 
 #include <math.h>
 #include <string.h>
 
 #define TT_STATS 0
 #include "accel/stats_variant.h"
-#include "accel/rtree/rtree_trace.h"
+#include "accel/rtree/trace/rtree_trace.h"
 #undef TT_STATS
 #define TT_STATS 1
 #include "accel/stats_variant.h"
-#include "accel/rtree/rtree_trace.h"
+#include "accel/rtree/trace/rtree_trace.h"
 
 /* -------------------------------------------------------------- options */
 

@@ -1,0 +1,443 @@
+/* R-tree construction by successive insertion (Guttman 1984; Beckmann et al.
+ * 1990, the R*-tree), in 3D, with the node-selection strategies of Feldmann
+ * (2015), section 5.1, and forced reinsertion.
+ *
+ * Speed: nodes live in one pool (indices, no per-insert allocation; the pool
+ * grows by doubling), bounds are structure-of-arrays per node, triangle
+ * boxes are precomputed, and the quadratic overlap criterion is evaluated
+ * only where the strategy asks for it (for the R* variants only in the
+ * nodes just above the leaves). The R*-paper's restriction of that
+ * criterion to the 32 entries of least enlargement is moot here: a node
+ * never has more than M <= 16 entries to choose from. */
+#include "accel/rtree/build/rtree_build.h"
+
+#include <string.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+#include "accel/rtree/rtree_box.h"
+
+/* ------------------------------------------------------------------ pool */
+
+static tt_status grow_pool(rt_builder *b)
+{
+    uint32_t cap = b->node_cap ? b->node_cap * 2 : 64;
+    if (cap < b->node_cap || cap > UINT32_MAX / 2)
+        return tt_error(b->ctx, TT_ERR_OUT_OF_MEMORY, "rtree: node pool exceeds 2^31 nodes");
+    rt_node_hdr *hdr = tt_realloc_array(b->ctx, b->hdr, cap, sizeof *hdr);
+    if (!hdr) return tt_error(b->ctx, TT_ERR_OUT_OF_MEMORY, "rtree: out of memory (node pool)");
+    b->hdr = hdr;
+    float *box = tt_realloc_array(b->ctx, b->box, (size_t)cap * 6, (size_t)b->cap * sizeof *box);
+    if (!box) return tt_error(b->ctx, TT_ERR_OUT_OF_MEMORY, "rtree: out of memory (node pool)");
+    b->box = box;
+    uint32_t *child = tt_realloc_array(b->ctx, b->child, cap, (size_t)b->cap * sizeof *child);
+    if (!child) return tt_error(b->ctx, TT_ERR_OUT_OF_MEMORY, "rtree: out of memory (node pool)");
+    b->child = child;
+    b->node_cap = cap;
+    return TT_OK;
+}
+
+static tt_status new_node(rt_builder *b, int level, uint32_t *out)
+{
+    if (b->node_count == b->node_cap) {
+        tt_status st = grow_pool(b);
+        if (st != TT_OK) return st;
+    }
+    uint32_t n = b->node_count++;
+    b->hdr[n].parent = TT_INVALID_ID;
+    b->hdr[n].slot = 0;
+    b->hdr[n].count = 0;
+    b->hdr[n].level = (uint8_t)level;
+    b->hdr[n].pad = 0;
+    memset(rt_node_box(b, n), 0, 6 * (size_t)b->cap * sizeof(float));
+    *out = n;
+    return TT_OK;
+}
+
+tt_status rt_builder_init(rt_builder *b, tt_context *ctx, const tt_rtree_options *opt,
+                          const float *tri_box, uint32_t triangle_count_hint)
+{
+    memset(b, 0, sizeof *b);
+    b->ctx = ctx;
+    b->m = opt->m;
+    b->M = opt->M;
+    /* room for M + 1 entries, rounded up to whole SIMD lanes (see
+     * choose_entry); the extra lanes hold zeros or stale entries, never read
+     * as entries */
+    b->cap = (opt->M + 1 + 3) & ~3;
+    b->strategy = opt->strategy;
+    b->split = opt->split;
+    b->reinsert = opt->reinsert;
+    int p = (int)(opt->reinsert_fraction * (float)(opt->M + 1));
+    b->reinsert_count = p < 1 ? 1 : p;
+    b->reinsert_far = opt->reinsert_far;
+    b->tri_box = tri_box;
+    /* A first guess of the pool (nodes about 70% full) saves the early
+     * doublings; it grows as needed. */
+    uint64_t guess = (uint64_t)triangle_count_hint * 2 / (uint64_t)opt->M + 64;
+    while (b->node_cap < guess && b->node_cap < (1u << 30)) {
+        tt_status st = grow_pool(b);
+        if (st != TT_OK) return st;
+    }
+    return new_node(b, 0, &b->root);
+}
+
+void rt_builder_free(rt_builder *b)
+{
+    tt_free(b->ctx, b->hdr);
+    tt_free(b->ctx, b->box);
+    tt_free(b->ctx, b->child);
+    b->hdr = NULL;
+    b->box = NULL;
+    b->child = NULL;
+}
+
+/* ---------------------------------------------------------- node helpers */
+
+void rt_node_bounds(const rt_builder *b, uint32_t n, float out[6])
+{
+    const float *s = rt_node_box(b, n);
+    int cap = b->cap, cnt = b->hdr[n].count;
+    rt_box_empty(out);
+    for (int k = 0; k < 3; k++) {
+        for (int i = 0; i < cnt; i++) {
+            out[k] = rt_min(out[k], s[k * cap + i]);
+            out[k + 3] = rt_max(out[k + 3], s[(k + 3) * cap + i]);
+        }
+    }
+}
+
+static void add_entry(rt_builder *b, uint32_t n, const float e[6], uint32_t c)
+{
+    int i = b->hdr[n].count++;
+    rt_soa_put(rt_node_box(b, n), b->cap, i, e);
+    rt_node_child(b, n)[i] = c;
+    if (b->hdr[n].level > 0) {
+        b->hdr[c].parent = n;
+        b->hdr[c].slot = (uint8_t)i;
+    }
+}
+
+/* Recomputes node n's box in its parent, and so on upwards, after n lost
+ * entries: node boxes stay the minimal union of their entries. Stops where
+ * a box does not change, since everything above was exact before. */
+static void tighten(rt_builder *b, uint32_t n)
+{
+    while (b->hdr[n].parent != TT_INVALID_ID) {
+        uint32_t p = b->hdr[n].parent;
+        float nb[6], old[6];
+        rt_node_bounds(b, n, nb);
+        float *ps = rt_node_box(b, p);
+        rt_soa_get(ps, b->cap, b->hdr[n].slot, old);
+        if (rt_box_equal(old, nb)) return;
+        rt_soa_put(ps, b->cap, b->hdr[n].slot, nb);
+        n = p;
+    }
+}
+
+/* ------------------------------------------------------ choose subtree */
+
+/* Which entry of node n (level > the insertion level) receives box e.
+ *
+ * Zero-volume boxes (a flat triangle, all of an axis-aligned planar scene)
+ * make every volume-based measure 0, so the volume and overlap criteria
+ * tie everywhere there; every volume-based key is therefore followed by the
+ * surface-area enlargement and the surface area, which keeps such builds
+ * as good as min-surface instead of degenerating to "the first entry".
+ * Keys, compared lexicographically:
+ *   min-surface, rstar-surface (interior): d surface, surface
+ *   min-volume, rstar (interior):          d volume, volume, d surface, surface
+ *   min-overlap (everywhere), rstar (above the leaves):
+ *                                          d overlap, d volume, volume, d surface, surface
+ *   rstar-surface (above the leaves):      d overlap, d surface, surface
+ * Surface areas are computed without the factor 2, which changes no order. */
+#define MAX_KEYS 5
+
+static int keys_less(const float *a, const float *b, int n)
+{
+    for (int i = 0; i < n; i++) {
+        if (a[i] < b[i]) return 1;
+        if (a[i] > b[i]) return 0;
+    }
+    return 0;
+}
+
+static int choose_entry(const rt_builder *b, uint32_t n, const float e[6])
+{
+    const rt_node_hdr *h = &b->hdr[n];
+    const float *s = rt_node_box(b, n);
+    const int cap = b->cap, cnt = h->count;
+    const tt_rtree_strategy st = b->strategy;
+    /* The R* variants minimise overlap only when choosing among leaves. */
+    const int overlap = st == TT_RTREE_MIN_OVERLAP ||
+                        (h->level == 1 && (st == TT_RTREE_RSTAR || st == TT_RTREE_RSTAR_SURFACE));
+    const int surface_only = st == TT_RTREE_MIN_SURFACE || st == TT_RTREE_RSTAR_SURFACE;
+    const float *lx = s, *ly = s + cap, *lz = s + 2 * cap;
+    const float *hx = s + 3 * cap, *hy = s + 4 * cap, *hz = s + 5 * cap;
+
+    if (!overlap) {
+        /* the hot path: the measures of all entries, four at a time where
+         * SIMD is available (same operations in the same order as the
+         * scalar code, so the same tree), then the lexicographic minimum */
+        float area[TT_RT_CAP + 3], darea[TT_RT_CAP + 3], vol[TT_RT_CAP + 3], dvol[TT_RT_CAP + 3];
+#if defined(__SSE2__)
+        const __m128 e0 = _mm_set1_ps(e[0]), e1 = _mm_set1_ps(e[1]), e2 = _mm_set1_ps(e[2]);
+        const __m128 e3 = _mm_set1_ps(e[3]), e4 = _mm_set1_ps(e[4]), e5 = _mm_set1_ps(e[5]);
+        for (int i = 0; i < cnt; i += 4) {
+            const __m128 Lx = _mm_loadu_ps(lx + i), Ly = _mm_loadu_ps(ly + i);
+            const __m128 Lz = _mm_loadu_ps(lz + i), Hx = _mm_loadu_ps(hx + i);
+            const __m128 Hy = _mm_loadu_ps(hy + i), Hz = _mm_loadu_ps(hz + i);
+            const __m128 ex = _mm_sub_ps(Hx, Lx), ey = _mm_sub_ps(Hy, Ly), ez = _mm_sub_ps(Hz, Lz);
+            const __m128 ux = _mm_sub_ps(_mm_max_ps(Hx, e3), _mm_min_ps(Lx, e0));
+            const __m128 uy = _mm_sub_ps(_mm_max_ps(Hy, e4), _mm_min_ps(Ly, e1));
+            const __m128 uz = _mm_sub_ps(_mm_max_ps(Hz, e5), _mm_min_ps(Lz, e2));
+            const __m128 a = _mm_add_ps(_mm_add_ps(_mm_mul_ps(ex, ey), _mm_mul_ps(ey, ez)),
+                                        _mm_mul_ps(ez, ex));
+            const __m128 ua = _mm_add_ps(_mm_add_ps(_mm_mul_ps(ux, uy), _mm_mul_ps(uy, uz)),
+                                         _mm_mul_ps(uz, ux));
+            const __m128 v = _mm_mul_ps(_mm_mul_ps(ex, ey), ez);
+            const __m128 uv = _mm_mul_ps(_mm_mul_ps(ux, uy), uz);
+            _mm_storeu_ps(area + i, a);
+            _mm_storeu_ps(darea + i, _mm_sub_ps(ua, a));
+            _mm_storeu_ps(vol + i, v);
+            _mm_storeu_ps(dvol + i, _mm_sub_ps(uv, v));
+        }
+#else
+        for (int i = 0; i < cnt; i++) {
+            const float ex = hx[i] - lx[i], ey = hy[i] - ly[i], ez = hz[i] - lz[i];
+            const float ux = rt_max(hx[i], e[3]) - rt_min(lx[i], e[0]);
+            const float uy = rt_max(hy[i], e[4]) - rt_min(ly[i], e[1]);
+            const float uz = rt_max(hz[i], e[5]) - rt_min(lz[i], e[2]);
+            area[i] = ex * ey + ey * ez + ez * ex;
+            darea[i] = (ux * uy + uy * uz + uz * ux) - area[i];
+            vol[i] = ex * ey * ez;
+            dvol[i] = ux * uy * uz - vol[i];
+        }
+#endif
+        int best_i = 0;
+        for (int i = 1; i < cnt; i++) {
+            if (surface_only) {
+                if (darea[i] < darea[best_i] ||
+                    (darea[i] == darea[best_i] && area[i] < area[best_i]))
+                    best_i = i;
+            } else {
+                float key[4] = {dvol[i], vol[i], darea[i], area[i]};
+                float best[4] = {dvol[best_i], vol[best_i], darea[best_i], area[best_i]};
+                if (keys_less(key, best, 4)) best_i = i;
+            }
+        }
+        return best_i;
+    }
+
+    /* An entry that already contains e has every enlargement 0, the least
+     * possible value of all the leading keys: the smallest such entry wins
+     * without the quadratic overlap sums. */
+    int inside = -1;
+    for (int i = 0; i < cnt; i++) {
+        if (lx[i] <= e[0] && ly[i] <= e[1] && lz[i] <= e[2] && hx[i] >= e[3] && hy[i] >= e[4] &&
+            hz[i] >= e[5]) {
+            const float ex = hx[i] - lx[i], ey = hy[i] - ly[i], ez = hz[i] - lz[i];
+            const float ix = hx[inside < 0 ? i : inside] - lx[inside < 0 ? i : inside];
+            const float iy = hy[inside < 0 ? i : inside] - ly[inside < 0 ? i : inside];
+            const float iz = hz[inside < 0 ? i : inside] - lz[inside < 0 ? i : inside];
+            float key[2] = {ex * ey * ez, ex * ey + ey * ez + ez * ex};
+            float best[2] = {ix * iy * iz, ix * iy + iy * iz + iz * ix};
+            if (st == TT_RTREE_RSTAR_SURFACE) key[0] = best[0] = 0.0f;
+            if (inside < 0 || keys_less(key, best, 2)) inside = i;
+        }
+    }
+    if (inside >= 0) return inside;
+
+    float ent[TT_RT_CAP][6], uni[TT_RT_CAP][6], own[TT_RT_CAP] = {0};
+    for (int i = 0; i < cnt; i++) {
+        rt_soa_get(s, cap, i, ent[i]);
+        for (int k = 0; k < 3; k++) {
+            uni[i][k] = rt_min(ent[i][k], e[k]);
+            uni[i][k + 3] = rt_max(ent[i][k + 3], e[k + 3]);
+        }
+    }
+    /* own[i]: the overlap of entry i with its siblings now (pairs once) */
+    for (int i = 0; i < cnt; i++)
+        for (int j = i + 1; j < cnt; j++) {
+            const float o = rt_box_overlap(ent[i], ent[j]);
+            own[i] += o;
+            own[j] += o;
+        }
+    float best[MAX_KEYS], key[MAX_KEYS];
+    int best_i = 0;
+    for (int i = 0; i < cnt; i++) {
+        int nk = 0;
+        float d = 0.0f;
+        for (int j = 0; j < cnt; j++)
+            if (j != i) d += rt_box_overlap(uni[i], ent[j]);
+        key[nk++] = d - own[i];
+        const float area = rt_box_area(ent[i]), darea = rt_box_area(uni[i]) - area;
+        if (st != TT_RTREE_RSTAR_SURFACE) {
+            const float vol = rt_box_volume(ent[i]);
+            key[nk++] = rt_box_volume(uni[i]) - vol;
+            key[nk++] = vol;
+        }
+        key[nk++] = darea;
+        key[nk++] = area;
+        if (i == 0 || keys_less(key, best, nk)) {
+            memcpy(best, key, sizeof best);
+            best_i = i;
+        }
+    }
+    return best_i;
+}
+
+/* ------------------------------------------------------------- insertion */
+
+static tt_status insert_entry(rt_builder *b, const float e[6], uint32_t c, int level);
+static tt_status overflow(rt_builder *b, uint32_t n);
+
+/* Splits overflowing node n (M + 1 entries) in two; may overflow its parent. */
+static tt_status split_node(rt_builder *b, uint32_t n)
+{
+    const int level = b->hdr[n].level;
+    const int is_root = n == b->root;
+    uint32_t n2, r = TT_INVALID_ID;
+    tt_status st = new_node(b, level, &n2);
+    if (st != TT_OK) return st;
+    if (is_root) {
+        st = new_node(b, level + 1, &r);
+        if (st != TT_OK) return st;
+    }
+    uint8_t group[TT_RT_CAP];
+    if (b->split == TT_RTREE_SPLIT_QUADRATIC) rt_split_quadratic(b, n, group);
+    else rt_split_rstar(b, n, group);
+
+    /* Group 0 stays in n (in its order), group 1 moves to n2. */
+    float *s = rt_node_box(b, n);
+    uint32_t *ch = rt_node_child(b, n);
+    const int cnt = b->hdr[n].count, cap = b->cap;
+    int kept = 0;
+    for (int i = 0; i < cnt; i++) {
+        float eb[6];
+        rt_soa_get(s, cap, i, eb);
+        if (group[i]) {
+            add_entry(b, n2, eb, ch[i]);
+        } else {
+            rt_soa_put(s, cap, kept, eb);
+            ch[kept] = ch[i];
+            if (level > 0) b->hdr[ch[kept]].slot = (uint8_t)kept;
+            kept++;
+        }
+    }
+    b->hdr[n].count = (uint8_t)kept;
+
+    float nb[6], n2b[6];
+    rt_node_bounds(b, n, nb);
+    rt_node_bounds(b, n2, n2b);
+    if (is_root) {
+        add_entry(b, r, nb, n);
+        add_entry(b, r, n2b, n2);
+        b->root = r;
+        return TT_OK;
+    }
+    uint32_t p = b->hdr[n].parent;
+    rt_soa_put(rt_node_box(b, p), cap, b->hdr[n].slot, nb);
+    add_entry(b, p, n2b, n2);
+    /* overflow treatment propagates upwards */
+    if (b->hdr[p].count > b->M) return overflow(b, p);
+    return TT_OK;
+}
+
+/* Forced reinsert (R*-tree): ejects the p entries of overflowing node n
+ * whose centres lie farthest from the centre of n's box and inserts them
+ * again at their level, far ones first (far reinsert) or near ones first
+ * (close reinsert). */
+static tt_status reinsert(rt_builder *b, uint32_t n)
+{
+    const int cap = b->cap, cnt = b->hdr[n].count, level = b->hdr[n].level;
+    float *s = rt_node_box(b, n);
+    uint32_t *ch = rt_node_child(b, n);
+    float nb[6];
+    rt_node_bounds(b, n, nb);
+    float dist[TT_RT_CAP];
+    int order[TT_RT_CAP];
+    for (int i = 0; i < cnt; i++) {
+        float d = 0.0f;
+        for (int k = 0; k < 3; k++) {
+            /* twice the centre offsets: the factor does not change the order */
+            float o = (s[k * cap + i] + s[(k + 3) * cap + i]) - (nb[k] + nb[k + 3]);
+            d += o * o;
+        }
+        dist[i] = d;
+        /* insertion sort by decreasing distance, stable */
+        int j = i;
+        while (j > 0 && dist[order[j - 1]] < d) {
+            order[j] = order[j - 1];
+            j--;
+        }
+        order[j] = i;
+    }
+    const int p = b->reinsert_count;
+    float ej_box[TT_RT_CAP][6];
+    uint32_t ej_child[TT_RT_CAP];
+    uint8_t eject[TT_RT_CAP] = {0};
+    for (int k = 0; k < p; k++) {
+        int i = order[k];
+        eject[i] = 1;
+        rt_soa_get(s, cap, i, ej_box[k]);
+        ej_child[k] = ch[i];
+    }
+    int kept = 0;
+    for (int i = 0; i < cnt; i++) {
+        if (eject[i]) continue;
+        float eb[6];
+        rt_soa_get(s, cap, i, eb);
+        rt_soa_put(s, cap, kept, eb);
+        ch[kept] = ch[i];
+        if (level > 0) b->hdr[ch[kept]].slot = (uint8_t)kept;
+        kept++;
+    }
+    b->hdr[n].count = (uint8_t)kept;
+    tighten(b, n);
+    for (int k = 0; k < p; k++) {
+        int e = b->reinsert_far ? k : p - 1 - k;
+        tt_status st = insert_entry(b, ej_box[e], ej_child[e], level);
+        if (st != TT_OK) return st;
+    }
+    return TT_OK;
+}
+
+static tt_status overflow(rt_builder *b, uint32_t n)
+{
+    int level = b->hdr[n].level;
+    if (n != b->root && b->reinsert && level < 32 && !(b->reinserted_levels & (1u << level))) {
+        b->reinserted_levels |= 1u << level;
+        return reinsert(b, n);
+    }
+    return split_node(b, n);
+}
+
+/* Inserts entry (box e, child c) into a node at `level`, descending from the
+ * root by the strategy and growing the boxes on the way (they then hold e). */
+static tt_status insert_entry(rt_builder *b, const float e[6], uint32_t c, int level)
+{
+    uint32_t n = b->root;
+    while (b->hdr[n].level > level) {
+        int i = choose_entry(b, n, e);
+        float *s = rt_node_box(b, n);
+        const int cap = b->cap;
+        for (int k = 0; k < 3; k++) {
+            s[k * cap + i] = rt_min(s[k * cap + i], e[k]);
+            s[(k + 3) * cap + i] = rt_max(s[(k + 3) * cap + i], e[k + 3]);
+        }
+        n = rt_node_child(b, n)[i];
+    }
+    add_entry(b, n, e, c);
+    if (b->hdr[n].count > b->M) return overflow(b, n);
+    return TT_OK;
+}
+
+tt_status rt_builder_insert_triangle(rt_builder *b, uint32_t id)
+{
+    b->reinserted_levels = 0;
+    tt_status st = insert_entry(b, b->tri_box + 6 * (size_t)id, id, 0);
+    if (st == TT_OK) b->triangles++;
+    return st;
+}

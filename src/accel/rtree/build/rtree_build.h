@@ -1,0 +1,87 @@
+/* The R-tree while it is being built: a pointer tree (indices into a node
+ * pool) grown by successive insertion of triangles, as in Guttman (1984) and
+ * the R*-tree of Beckmann et al. (1990), in 3D. It is packed into the
+ * paper's level-order array afterwards (rtree_pack.h) and then freed.
+ *
+ * Levels count from the leaves (level 0) up to the root, so a node keeps its
+ * level when the tree grows a new root; forced reinsertion re-inserts ejected
+ * entries "at their level" by that number. */
+#ifndef TT_ACCEL_RTREE_BUILD_H
+#define TT_ACCEL_RTREE_BUILD_H
+
+#include <stdint.h>
+
+#include "accel/rtree/layout/rtree_packed.h"
+#include "core/context.h"
+
+#define TT_RT_CAP (TT_RT_MAX_M + 1) /* an overflowing node holds M + 1 */
+/* Levels the builder supports; the packer's own limit is far lower. */
+#define TT_RT_BUILD_LEVELS 32
+
+typedef struct rt_node_hdr {
+    uint32_t parent; /* node index; TT_INVALID_ID for the root             */
+    uint8_t slot;    /* this node's entry position within its parent        */
+    uint8_t count;   /* entries in use (up to M + 1 while overflowing)      */
+    uint8_t level;   /* 0: leaf, its entries are triangles                  */
+    uint8_t pad;
+} rt_node_hdr;
+
+typedef struct rt_builder {
+    tt_context *ctx;
+    /* options */
+    int m, M, cap; /* cap = M + 1 entries per node in the pool             */
+    tt_rtree_strategy strategy;
+    tt_rtree_split split;
+    int reinsert, reinsert_count, reinsert_far;
+
+    /* node pool: header, boxes as six arrays of cap floats per node
+     * (lo x, lo y, lo z, hi x, hi y, hi z: structure of arrays, so one
+     * bound of all entries is contiguous), children (node index, or the
+     * triangle id in a leaf). */
+    uint32_t node_count, node_cap;
+    rt_node_hdr *hdr;
+    float *box;
+    uint32_t *child;
+    uint32_t root;
+
+    const float *tri_box; /* 6 floats a triangle: lo xyz, hi xyz            */
+    uint32_t triangles;   /* inserted so far                                */
+
+    /* levels that already had their forced reinsert during the current
+     * top-level insertion (bit l for level l) */
+    uint32_t reinserted_levels;
+} rt_builder;
+
+/* The six bound arrays of node n: b[k * cap + i] is bound k of entry i. */
+static inline float *rt_node_box(const rt_builder *b, uint32_t n)
+{
+    return b->box + (size_t)n * 6 * (size_t)b->cap;
+}
+static inline uint32_t *rt_node_child(const rt_builder *b, uint32_t n)
+{
+    return b->child + (size_t)n * (size_t)b->cap;
+}
+
+/* Sets up an empty tree (one empty leaf as root) for the options, which the
+ * caller has validated. tri_box must outlive the builder. */
+tt_status rt_builder_init(rt_builder *b, tt_context *ctx, const tt_rtree_options *opt,
+                          const float *tri_box, uint32_t triangle_count_hint);
+void rt_builder_free(rt_builder *b);
+
+/* Inserts triangle `id` (its box is tri_box[6 * id ..]). */
+tt_status rt_builder_insert_triangle(rt_builder *b, uint32_t id);
+
+/* The box of everything in node n (the union of its entries). */
+void rt_node_bounds(const rt_builder *b, uint32_t n, float out[6]);
+
+/* Verifies the pointer tree: levels, parent links, fill m..M, exact node
+ * boxes, every inserted triangle exactly once. TT_ERR_INVARIANT through
+ * tt_error naming the node and the broken rule. For white-box tests. */
+tt_status rt_builder_check(const rt_builder *b);
+
+/* Splitting an overflowing node (rtree_split.c): fills group[i] with 0 or
+ * 1 for each of the node's count entries, both groups holding >= m. */
+void rt_split_rstar(const rt_builder *b, uint32_t n, uint8_t *group);
+void rt_split_quadratic(const rt_builder *b, uint32_t n, uint8_t *group);
+
+#endif

@@ -1,0 +1,635 @@
+/* Top-down bulk loading by the surface area heuristic with every leaf on
+ * one level (in the spirit of OMT, Lee & Lee 2003, whose slices are cut
+ * here where the SAH says).
+ *
+ * Height: a subtree whose root is on level l holds between m^(l+1) and
+ * M^(l+1) triangles (every node m..M entries); the root may hold 2..M
+ * entries. The root goes on the smallest level L with M^(L+1) >= T, which
+ * is also feasible from below: T > M^L >= 2 m^L for L >= 1 since M >= 2m.
+ * The smallest height also keeps the complete level-order layout smallest.
+ *
+ * A node on level l >= 1 with n triangles gets k children, each a subtree
+ * on level l - 1 holding [lo, hi] = [m^l, M^l] triangles: k lies in
+ * [max(kmin, ceil(n/hi)), min(M, floor(n/lo))] (kmin = 2 at the root, m
+ * elsewhere), a range the node's own capacity makes non-empty. The node's
+ * triangles are cut into its k groups by recursive binary cuts: a range
+ * that must become k groups is cut into c and n - c triangles that become
+ * k1 and k - k1 groups, with c in [k1 lo, k1 hi] and n - c in
+ * [(k - k1) lo, (k - k1) hi] (always possible for some c when k lo <= n <=
+ * k hi). Among such cuts the one of least A(left) c + A(right) (n - c)
+ * wins, over the three axes: exact sweeps over the sorted centres for small
+ * ranges, 32 bins per axis for large ones (a bin boundary whose count is not
+ * feasible is moved to the nearest feasible count, its cost estimated with
+ * the straddling bins on both sides). The cut itself is exact: a selection
+ * puts the c triangles of least centre (ties by id) left.
+ *
+ * Results go into preallocated places only (the triangle order and one
+ * byte per position saying which levels' nodes start there); the nodes are
+ * then made level by level from those marks, so the tree is the same for
+ * any number of threads. Subtrees are OpenMP tasks. */
+#include <string.h>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+#include "accel/rtree/rtree_box.h"
+#include "accel/rtree/build/rtree_bulk.h"
+
+#define BINS 32
+#define SWEEP_MAX 64      /* ranges up to this size are swept exactly */
+#define TASK_MIN 4096     /* subtrees of at least this many triangles are tasks */
+
+typedef struct sah {
+    const float *tri_box;
+    const float *cen; /* 3 floats a triangle */
+    uint32_t *idx;    /* triangle ids, becoming leaf order */
+    uint8_t *mark;    /* per position: 1 + the highest level whose node starts here; 0 none */
+    uint64_t lo[TT_RT_BUILD_LEVELS], hi[TT_RT_BUILD_LEVELS]; /* subtree capacity by its level */
+    int m, M, root_level;
+} sah;
+
+/* ------------------------------------------------------------ feasibility */
+
+/* The group counts k1 for a left side of c of n triangles becoming k groups
+ * of lo..hi: [*a, *b], empty when *a > *b. */
+static void k1_range(uint64_t n, uint64_t c, int k, uint64_t lo, uint64_t hi, int *a, int *b)
+{
+    const uint64_t r = n - c;
+    int64_t A = 1, B = k - 1;
+    int64_t t = (int64_t)((c + hi - 1) / hi); /* ceil(c / hi) */
+    if (t > A) A = t;
+    t = (int64_t)k - (int64_t)(r / lo);
+    if (t > A) A = t;
+    t = (int64_t)(c / lo);
+    if (t < B) B = t;
+    t = (int64_t)k - (int64_t)((r + hi - 1) / hi);
+    if (t < B) B = t;
+    *a = (int)A;
+    *b = (int)B;
+}
+
+/* k1 for a feasible cut c (the one nearest proportional), 0 if infeasible. */
+static int pick_k1(uint64_t n, uint64_t c, int k, uint64_t lo, uint64_t hi)
+{
+    if (c == 0 || c >= n) return 0;
+    int a, b;
+    k1_range(n, c, k, lo, hi, &a, &b);
+    if (a > b) return 0;
+    int p = (int)((c * (uint64_t)k + n / 2) / n);
+    return p < a ? a : p > b ? b : p;
+}
+
+/* The cuts c for which the left side becomes k1 groups: [*a, *b]; 0 if
+ * there are none. */
+static int cut_interval(uint64_t n, int k, int k1, uint64_t lo, uint64_t hi, uint64_t *a_out,
+                        uint64_t *b_out)
+{
+    const uint64_t k2 = (uint64_t)(k - k1);
+    uint64_t a = (uint64_t)k1 * lo, b = (uint64_t)k1 * hi;
+    if (n > k2 * hi && n - k2 * hi > a) a = n - k2 * hi;
+    if (n - k2 * lo < b) b = n - k2 * lo; /* n >= k lo > k2 lo */
+    *a_out = a;
+    *b_out = b;
+    return a <= b;
+}
+
+/* The feasible cut nearest c. */
+static uint64_t nearest_cut(uint64_t n, uint64_t c, int k, uint64_t lo, uint64_t hi)
+{
+    uint64_t best = 0, dist = UINT64_MAX;
+    for (int k1 = 1; k1 < k; k1++) {
+        uint64_t a, b;
+        if (!cut_interval(n, k, k1, lo, hi, &a, &b)) continue;
+        uint64_t x = c < a ? a : c > b ? b : c;
+        uint64_t d = x > c ? x - c : c - x;
+        if (d < dist) dist = d, best = x;
+    }
+    return best;
+}
+
+/* ---------------------------------------------------------- ordering */
+
+static inline int before(const sah *s, int axis, uint32_t a, uint32_t b)
+{
+    const float ca = s->cen[3 * (size_t)a + axis], cb = s->cen[3 * (size_t)b + axis];
+    return ca < cb || (ca == cb && a < b);
+}
+
+/* Puts the c triangles of least (centre on axis, id) first in v[0 .. n). */
+static void select_first(const sah *s, int axis, uint32_t *v, uint32_t n, uint32_t c)
+{
+    uint32_t lo = 0, hi = n; /* the c-th lies in [lo, hi) */
+    while (hi - lo > 16) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        /* median of three as pivot, moved to lo */
+        uint32_t a = v[lo], b = v[mid], d = v[hi - 1], p;
+        if (before(s, axis, a, b)) p = before(s, axis, b, d) ? mid : before(s, axis, a, d) ? hi - 1 : lo;
+        else p = before(s, axis, a, d) ? lo : before(s, axis, b, d) ? hi - 1 : mid;
+        uint32_t t = v[lo];
+        v[lo] = v[p];
+        v[p] = t;
+        const uint32_t pivot = v[lo];
+        uint32_t i = lo + 1, j = hi - 1;
+        for (;;) { /* all ids differ: strict order, no element equals the pivot */
+            while (i <= j && before(s, axis, v[i], pivot)) i++;
+            while (i <= j && before(s, axis, pivot, v[j])) j--;
+            if (i >= j) break;
+            t = v[i], v[i] = v[j], v[j] = t;
+            i++, j--;
+        }
+        /* v[lo+1 .. j] < pivot < v[j+1 ..]: put the pivot at j */
+        v[lo] = v[j];
+        v[j] = pivot;
+        if (j == c) return;
+        if (j < c) lo = j + 1;
+        else hi = j;
+    }
+    for (uint32_t i = lo + 1; i < hi; i++) { /* insertion sort of the rest */
+        uint32_t x = v[i], j = i;
+        while (j > lo && before(s, axis, x, v[j - 1])) {
+            v[j] = v[j - 1];
+            j--;
+        }
+        v[j] = x;
+    }
+}
+
+static inline float area_of(const float b[6])
+{
+    return b[3] >= b[0] ? rt_box_area(b) : 0.0f;
+}
+
+/* ----------------------------------------------------------------- cuts */
+
+/* (centre, id) as one integer: the float's order in the high half, the id
+ * in the low half, so small ranges sort on plain integer compares. */
+static inline uint64_t item_key(float c, uint32_t id)
+{
+    return (uint64_t)rt_float_key(c) << 32 | id;
+}
+
+static void sort_keys(uint64_t *a, uint32_t n) /* n is small */
+{
+    for (uint32_t i = 1; i < n; i++) {
+        uint64_t x = a[i];
+        uint32_t j = i;
+        while (j > 0 && x < a[j - 1]) {
+            a[j] = a[j - 1];
+            j--;
+        }
+        a[j] = x;
+    }
+}
+
+/* Cuts v[0 .. n), which must become k groups of lo..hi, into a left part
+ * v[0 .. *c) of *k1 groups: small ranges by an exact sweep. */
+static void cut_sweep(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo, uint64_t hi,
+                      uint32_t *c_out, int *k1_out)
+{
+    uint64_t sorted[3][SWEEP_MAX];
+    float right[SWEEP_MAX];
+    /* the feasible cuts, once (the union over k1 of the intervals) */
+    uint8_t ok[SWEEP_MAX];
+    memset(ok, 0, n);
+    for (int k1 = 1; k1 < k; k1++) {
+        uint64_t a, b;
+        if (cut_interval(n, k, k1, lo, hi, &a, &b))
+            for (uint64_t c = a; c <= b; c++) ok[c] = 1;
+    }
+    float best = TT_INF;
+    int best_axis = -1;
+    uint32_t best_c = 0;
+    for (int axis = 0; axis < 3; axis++) {
+        uint64_t *a = sorted[axis];
+        for (uint32_t i = 0; i < n; i++) a[i] = item_key(s->cen[3 * (size_t)v[i] + axis], v[i]);
+        sort_keys(a, n);
+        float b[6];
+        rt_box_empty(b);
+        for (uint32_t i = n; i-- > 1;) {
+            rt_box_grow(b, s->tri_box + 6 * (size_t)(uint32_t)a[i]);
+            right[i] = rt_box_area(b);
+        }
+        rt_box_empty(b);
+        for (uint32_t c = 1; c < n; c++) {
+            rt_box_grow(b, s->tri_box + 6 * (size_t)(uint32_t)a[c - 1]);
+            if (!ok[c]) continue;
+            float cost = rt_box_area(b) * (float)c + right[c] * (float)(n - c);
+            if (cost < best) best = cost, best_axis = axis, best_c = c;
+        }
+    }
+    if (best_axis < 0) { /* cannot happen for a feasible range; keep the order */
+        best_axis = 0;
+        best_c = (uint32_t)nearest_cut(n, n / 2, k, lo, hi);
+    }
+    for (uint32_t i = 0; i < n; i++) v[i] = (uint32_t)sorted[best_axis][i];
+    *c_out = best_c;
+    *k1_out = pick_k1(n, best_c, k, lo, hi);
+}
+
+static void centre_bounds(const sah *s, const uint32_t *v, uint32_t n, float cb[6])
+{
+    rt_box_empty(cb);
+    for (uint32_t i = 0; i < n; i++) {
+        const float *c = s->cen + 3 * (size_t)v[i];
+        for (int a = 0; a < 3; a++) {
+            cb[a] = rt_min(cb[a], c[a]);
+            cb[a + 3] = rt_max(cb[a + 3], c[a]);
+        }
+    }
+}
+
+static inline int bin_of(float c, float lo, float scale)
+{
+    int j = (int)((c - lo) * scale);
+    return j < 0 ? 0 : j >= BINS ? BINS - 1 : j;
+}
+
+/* The same for large ranges, by binning the centres (whose bounds are cb);
+ * also returns the centre bounds of both sides. */
+static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo, uint64_t hi,
+                       const float cb[6], uint32_t *c_out, int *k1_out, float cbl[6], float cbr[6])
+{
+    float scale[3];
+    uint32_t cnt[3][BINS];
+    float box[3][BINS][6];
+    memset(cnt, 0, sizeof cnt);
+    for (int a = 0; a < 3; a++)
+        scale[a] = cb[a + 3] > cb[a] ? (float)BINS / (cb[a + 3] - cb[a]) : 0.0f;
+#if defined(__SSE2__)
+    /* a bin's bounds as two 4-lane registers: lanes 0..2 of lo hold the
+     * minima (lane 3 unused), lanes 1..3 of hi the maxima (lane 0 unused),
+     * so that one triangle box (6 floats) is two unaligned loads */
+    __m128 blo[3][BINS], bhi[3][BINS];
+    for (int a = 0; a < 3; a++)
+        for (int j = 0; j < BINS; j++) {
+            blo[a][j] = _mm_set1_ps(TT_INF);
+            bhi[a][j] = _mm_set1_ps(-TT_INF);
+        }
+    for (uint32_t i = 0; i < n; i++) {
+        const float *c = s->cen + 3 * (size_t)v[i], *tb = s->tri_box + 6 * (size_t)v[i];
+        const __m128 lo4 = _mm_loadu_ps(tb), hi4 = _mm_loadu_ps(tb + 2);
+        for (int a = 0; a < 3; a++) {
+            const int j = bin_of(c[a], cb[a], scale[a]);
+            cnt[a][j]++;
+            blo[a][j] = _mm_min_ps(blo[a][j], lo4);
+            bhi[a][j] = _mm_max_ps(bhi[a][j], hi4);
+        }
+    }
+    for (int a = 0; a < 3; a++)
+        for (int j = 0; j < BINS; j++) {
+            float l[4], h[4];
+            _mm_storeu_ps(l, blo[a][j]);
+            _mm_storeu_ps(h, bhi[a][j]);
+            const float b6[6] = {l[0], l[1], l[2], h[1], h[2], h[3]};
+            memcpy(box[a][j], b6, sizeof b6);
+        }
+#else
+    for (int a = 0; a < 3; a++)
+        for (int j = 0; j < BINS; j++) rt_box_empty(box[a][j]);
+    for (uint32_t i = 0; i < n; i++) {
+        const float *c = s->cen + 3 * (size_t)v[i], *tb = s->tri_box + 6 * (size_t)v[i];
+        for (int a = 0; a < 3; a++) {
+            const int j = bin_of(c[a], cb[a], scale[a]);
+            cnt[a][j]++;
+            rt_box_grow(box[a][j], tb);
+        }
+    }
+#endif
+    float best = TT_INF;
+    int best_axis = -1, best_bin = 0;
+    uint32_t best_c = 0;
+    for (int axis = 0; axis < 3; axis++) {
+        if (!(cb[axis + 3] > cb[axis])) continue;
+        /* prefix: bins [0, j); suffix: bins [j, BINS) */
+        float pre_a[BINS + 1], suf_a[BINS + 1];
+        uint32_t pre_c[BINS + 1];
+        float b[6];
+        rt_box_empty(b);
+        pre_a[0] = 0.0f;
+        pre_c[0] = 0;
+        for (int j = 0; j < BINS; j++) {
+            rt_box_grow(b, box[axis][j]);
+            pre_a[j + 1] = area_of(b);
+            pre_c[j + 1] = pre_c[j] + cnt[axis][j];
+        }
+        rt_box_empty(b);
+        suf_a[BINS] = 0.0f;
+        for (int j = BINS; j-- > 0;) {
+            rt_box_grow(b, box[axis][j]);
+            suf_a[j] = area_of(b);
+        }
+        for (int j = 1; j < BINS; j++) {
+            uint32_t c = pre_c[j];
+            uint32_t f = (uint32_t)nearest_cut(n, c, k, lo, hi);
+            float al = pre_a[j], ar = suf_a[j];
+            if (f > c) { /* the left side reaches into later bins */
+                int e = j;
+                while (e < BINS && pre_c[e] < f) e++;
+                al = pre_a[e];
+            } else if (f < c) { /* the right side reaches into earlier bins */
+                int e = j;
+                while (e > 0 && pre_c[e] > f) e--;
+                ar = suf_a[e];
+            }
+            float cost = al * (float)f + ar * (float)(n - f);
+            if (cost < best) best = cost, best_axis = axis, best_c = f, best_bin = f == c ? j : -1;
+        }
+    }
+    if (best_axis >= 0 && best_bin >= 0) {
+        /* the cut is a bin boundary: one partitioning pass, which also
+         * bounds both sides' centres */
+        const int a = best_axis;
+        rt_box_empty(cbl);
+        rt_box_empty(cbr);
+        uint32_t i = 0, j = n;
+        while (i < j) {
+            const float *c = s->cen + 3 * (size_t)v[i];
+            if (bin_of(c[a], cb[a], scale[a]) < best_bin) {
+                for (int d = 0; d < 3; d++) {
+                    cbl[d] = rt_min(cbl[d], c[d]);
+                    cbl[d + 3] = rt_max(cbl[d + 3], c[d]);
+                }
+                i++;
+            } else {
+                for (int d = 0; d < 3; d++) {
+                    cbr[d] = rt_min(cbr[d], c[d]);
+                    cbr[d + 3] = rt_max(cbr[d + 3], c[d]);
+                }
+                uint32_t t = v[i];
+                v[i] = v[--j];
+                v[j] = t;
+            }
+        }
+    } else {
+        if (best_axis < 0) { /* all centres equal: any cut, by id */
+            best_axis = 0;
+            best_c = (uint32_t)nearest_cut(n, (uint64_t)n * (uint64_t)(k / 2) / (uint64_t)k, k,
+                                           lo, hi);
+        }
+        select_first(s, best_axis, v, n, best_c);
+        centre_bounds(s, v, best_c, cbl);
+        centre_bounds(s, v + best_c, n - best_c, cbr);
+    }
+    *c_out = best_c;
+    *k1_out = pick_k1(n, best_c, k, lo, hi);
+}
+
+/* A group of a node's partition: where it starts, and its centres' bounds
+ * (known for the groups cut from bins, which are the large ones). */
+typedef struct group {
+    uint32_t start;
+    float cb[6];
+} group;
+
+/* Cuts v[0 .. n) (centre bounds cb, needed when n > SWEEP_MAX) into k groups
+ * of lo..hi triangles, appended to out[*g]. */
+static void partition(const sah *s, uint32_t *v, uint32_t off, uint32_t n, int k, uint64_t lo,
+                      uint64_t hi, const float cb[6], group *out, int *g)
+{
+    if (k == 1) {
+        out[*g].start = off;
+        memcpy(out[*g].cb, cb, sizeof out[*g].cb);
+        (*g)++;
+        return;
+    }
+    uint32_t c;
+    int k1;
+    float cbl[6], cbr[6];
+    if (n <= SWEEP_MAX) {
+        cut_sweep(s, v, n, k, lo, hi, &c, &k1);
+        rt_box_empty(cbl); /* not needed below: the parts are swept too */
+        rt_box_empty(cbr);
+    } else {
+        cut_binned(s, v, n, k, lo, hi, cb, &c, &k1, cbl, cbr);
+    }
+    partition(s, v, off, c, k1, lo, hi, cbl, out, g);
+    partition(s, v + c, off + c, n - c, k - k1, lo, hi, cbr, out, g);
+}
+
+/* ------------------------------------------------------ small subtrees */
+
+/* A whole subtree of at most SWEEP_MAX triangles is built on three lists of
+ * its triangles sorted by centre along each axis, sorted once: a cut takes
+ * the first c of one list and stably partitions the other two, so every
+ * range keeps its three sorted lists and no cut sorts again. Entries are
+ * local indices (ties between equal centres go by them). */
+typedef struct small {
+    const sah *s;
+    uint32_t first;             /* position of the subtree in idx */
+    uint32_t id[SWEEP_MAX];     /* local index -> triangle id */
+    uint8_t list[3][SWEEP_MAX]; /* local indices in centre order per axis */
+    uint8_t left[SWEEP_MAX];    /* scratch: on the left of the cut */
+} small;
+
+/* The exact sweep of cut_sweep on the range [a, a + n) of the lists. */
+static void small_cut(small *sm, uint32_t a, uint32_t n, int k, uint64_t lo, uint64_t hi,
+                      uint32_t *c_out, int *k1_out)
+{
+    const sah *s = sm->s;
+    uint8_t ok[SWEEP_MAX];
+    memset(ok, 0, n);
+    for (int k1 = 1; k1 < k; k1++) {
+        uint64_t x, y;
+        if (cut_interval(n, k, k1, lo, hi, &x, &y))
+            for (uint64_t c = x; c <= y; c++) ok[c] = 1;
+    }
+    float right[SWEEP_MAX], best = TT_INF;
+    int best_axis = -1;
+    uint32_t best_c = 0;
+    for (int axis = 0; axis < 3; axis++) {
+        const uint8_t *l = sm->list[axis] + a;
+        float b[6];
+        rt_box_empty(b);
+        for (uint32_t i = n; i-- > 1;) {
+            rt_box_grow(b, s->tri_box + 6 * (size_t)sm->id[l[i]]);
+            right[i] = rt_box_area(b);
+        }
+        rt_box_empty(b);
+        for (uint32_t c = 1; c < n; c++) {
+            rt_box_grow(b, s->tri_box + 6 * (size_t)sm->id[l[c - 1]]);
+            if (!ok[c]) continue;
+            float cost = rt_box_area(b) * (float)c + right[c] * (float)(n - c);
+            if (cost < best) best = cost, best_axis = axis, best_c = c;
+        }
+    }
+    if (best_axis < 0) { /* cannot happen for a feasible range */
+        best_axis = 0;
+        best_c = (uint32_t)nearest_cut(n, n / 2, k, lo, hi);
+    }
+    const uint8_t *l = sm->list[best_axis] + a;
+    for (uint32_t i = 0; i < n; i++) sm->left[l[i]] = i < best_c;
+    for (int axis = 0; axis < 3; axis++) {
+        if (axis == best_axis) continue;
+        uint8_t *m = sm->list[axis] + a, tmp[SWEEP_MAX];
+        uint32_t nl = 0, nr = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            if (sm->left[m[i]]) m[nl++] = m[i];
+            else tmp[nr++] = m[i];
+        }
+        memcpy(m + nl, tmp, nr);
+    }
+    *c_out = best_c;
+    *k1_out = pick_k1(n, best_c, k, lo, hi);
+}
+
+static void small_partition(small *sm, uint32_t a, uint32_t n, int k, uint64_t lo, uint64_t hi,
+                            uint32_t *starts, int *g)
+{
+    if (k == 1) {
+        starts[(*g)++] = a;
+        return;
+    }
+    uint32_t c;
+    int k1;
+    small_cut(sm, a, n, k, lo, hi, &c, &k1);
+    small_partition(sm, a, c, k1, lo, hi, starts, g);
+    small_partition(sm, a + c, n - c, k - k1, lo, hi, starts, g);
+}
+
+static void small_node(small *sm, uint32_t a, uint32_t n, int level)
+{
+    const sah *s = sm->s;
+    const uint64_t lo = s->lo[level - 1], hi = s->hi[level - 1];
+    uint64_t kmax = n / lo;
+    if (kmax > (uint64_t)s->M) kmax = (uint64_t)s->M;
+    uint32_t starts[TT_RT_MAX_M + 1];
+    int g = 0;
+    small_partition(sm, a, n, (int)kmax, lo, hi, starts, &g);
+    starts[g] = a + n;
+    for (int j = 1; j < g; j++) s->mark[sm->first + starts[j]] = (uint8_t)level;
+    if (level == 1) return;
+    for (int j = 0; j < g; j++) small_node(sm, starts[j], starts[j + 1] - starts[j], level - 1);
+}
+
+/* The subtree on `level` holding idx[first .. first + n), n <= SWEEP_MAX. */
+static void build_small(const sah *s, uint32_t first, uint32_t n, int level)
+{
+    small sm;
+    sm.s = s;
+    sm.first = first;
+    uint32_t *v = s->idx + first;
+    for (uint32_t i = 0; i < n; i++) sm.id[i] = v[i];
+    for (int axis = 0; axis < 3; axis++) {
+        uint64_t key[SWEEP_MAX];
+        for (uint32_t i = 0; i < n; i++) key[i] = item_key(s->cen[3 * (size_t)v[i] + axis], i);
+        sort_keys(key, n);
+        for (uint32_t i = 0; i < n; i++) sm.list[axis][i] = (uint8_t)key[i];
+    }
+    small_node(&sm, 0, n, level);
+    for (uint32_t i = 0; i < n; i++) v[i] = sm.id[sm.list[0][i]];
+}
+
+/* The node on `level` holding idx[first .. first + n), centre bounds cb.
+ * It is as wide as the capacities allow: k = min(M, floor(n / lo)) children
+ * (measured against the fewest, ceil(n / hi), and halfway between: the
+ * widest gave the least SAH cost and the fastest rays on every scene). */
+static void build_node(const sah *s, uint32_t first, uint32_t n, int level, const float cb[6])
+{
+    if (n <= SWEEP_MAX) {
+        build_small(s, first, n, level);
+        return;
+    }
+    const uint64_t lo = s->lo[level - 1], hi = s->hi[level - 1];
+    uint64_t kmax = n / lo;
+    if (kmax > (uint64_t)s->M) kmax = (uint64_t)s->M;
+    const int k = (int)kmax;
+    group grp[TT_RT_MAX_M + 1];
+    int g = 0;
+    partition(s, s->idx + first, first, n, k, lo, hi, cb, grp, &g);
+    grp[g].start = first + n;
+    for (int j = 1; j < g; j++) s->mark[grp[j].start] = (uint8_t)level; /* level - 1, plus one */
+    if (level == 1) return;
+    for (int j = 0; j < g; j++) {
+        const uint32_t f = grp[j].start, cn = grp[j + 1].start - grp[j].start;
+        if (cn >= TASK_MIN) {
+            group one = grp[j];
+#pragma omp task firstprivate(f, cn, one)
+            build_node(s, f, cn, level - 1, one.cb);
+        } else {
+            build_node(s, f, cn, level - 1, grp[j].cb);
+        }
+    }
+}
+
+tt_status rt_bulk_sah(rt_builder *b, tt_context *ctx, const tt_rtree_options *opt,
+                      const float *tri_box, uint32_t T)
+{
+    sah s;
+    memset(&s, 0, sizeof s);
+    s.tri_box = tri_box;
+    s.m = opt->m;
+    s.M = opt->M;
+    /* capacities by level; the root level: smallest L with M^(L+1) >= T */
+    int L = 0;
+    for (int l = 0; l < TT_RT_BUILD_LEVELS; l++) {
+        s.lo[l] = l == 0 ? (uint64_t)opt->m : s.lo[l - 1] * (uint64_t)opt->m;
+        s.hi[l] = l == 0 ? (uint64_t)opt->M : s.hi[l - 1] * (uint64_t)opt->M;
+        if (s.lo[l] > ((uint64_t)1 << 40)) s.lo[l] = (uint64_t)1 << 40; /* beyond any T */
+        if (s.hi[l] > ((uint64_t)1 << 40)) s.hi[l] = (uint64_t)1 << 40;
+    }
+    while (s.hi[L] < T) L++;
+    s.root_level = L;
+    const int threads = rt_bulk_threads(ctx);
+    const size_t n = T ? T : 1;
+    float *cen = NULL;
+    tt_status st = rt_bulk_centres(ctx, tri_box, T, &cen);
+    s.cen = cen;
+    s.idx = tt_alloc_array(ctx, n, sizeof *s.idx);
+    s.mark = tt_calloc(ctx, n, 1);
+    uint32_t *start = tt_alloc_array(ctx, n + 1, sizeof *start);
+    if (st == TT_OK && (!s.idx || !s.mark || !start))
+        st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree: out of memory (SAH build, %u triangles)", T);
+    if (st == TT_OK) {
+        for (uint32_t i = 0; i < T; i++) s.idx[i] = i;
+        if (T > 0) s.mark[0] = (uint8_t)(L + 1);
+        if (L > 0) {
+            float cb[6];
+            centre_bounds(&s, s.idx, T, cb);
+#pragma omp parallel num_threads(threads) if (T >= RT_BULK_PARALLEL_MIN / 2)
+#pragma omp single
+            build_node(&s, 0, T, L, cb);
+        }
+        /* nodes per level from the marks: a level-l node starts where
+         * mark > l */
+        uint32_t count[TT_RT_BUILD_LEVELS] = {0};
+        uint64_t nodes = 0;
+        for (int l = 0; l <= L; l++) {
+            uint32_t c = 0;
+            for (uint32_t p = 0; p < T; p++) c += s.mark[p] > l;
+            count[l] = T ? c : 1;
+            nodes += count[l];
+        }
+        st = rt_bulk_pool(b, ctx, opt, tri_box, T, (uint32_t)nodes);
+        if (st == TT_OK) {
+            /* leaves: their starts in the triangle order */
+            uint32_t g = 0;
+            for (uint32_t p = 0; p < T; p++)
+                if (s.mark[p] > 0) start[g++] = p;
+            start[g] = T;
+            if (T == 0) start[0] = 0, start[1] = 0;
+            rt_bulk_make_level(b, 0, s.idx, start, count[0], 0, threads);
+            /* level l: its nodes group the level l-1 nodes starting where
+             * mark > l; the level l-1 nodes' starts are rebuilt per level */
+            uint32_t first = 0;
+            for (int l = 1; l <= L; l++) {
+                uint32_t below = count[l - 1], j = 0, gg = 0;
+                for (uint32_t p = 0; p < T; p++) {
+                    if (s.mark[p] > l - 1) {
+                        if (s.mark[p] > l) start[gg++] = j;
+                        s.idx[j] = first + j; /* the order is used up: reuse as ids */
+                        j++;
+                    }
+                }
+                start[gg] = below;
+                rt_bulk_make_level(b, l, s.idx, start, count[l], first + below, threads);
+                first += below;
+            }
+        }
+    }
+    tt_free(ctx, cen);
+    tt_free(ctx, s.idx);
+    tt_free(ctx, s.mark);
+    tt_free(ctx, start);
+    return st;
+}

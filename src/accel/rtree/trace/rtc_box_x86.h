@@ -1,0 +1,158 @@
+/* The slab test of a compact node's child boxes (rtc_layout.h) on x86 SIMD
+ * registers, 4, 8 or 16 children per instruction: for inclusion in the
+ * per-ISA units rtc_trace_sse42.c / _avx2.c / _avx512.c only, which are
+ * compiled with that ISA's flags (the wider kernels exist where __AVX2__ /
+ * __AVX512F__ says the unit may use them).
+ *
+ * Each lane computes exactly what tt_rt_box_test_at (rtree_packed.h)
+ * computes for one box, with the same operations in the same order (no FMA:
+ * the units are compiled with -ffp-contract=off), so every ISA path visits
+ * the same boxes: max(candidate, accumulator) and min(candidate,
+ * accumulator) return the accumulator when either operand is NaN, exactly
+ * tt_slab_near / tt_slab_far; the ordered compares are false on NaN like
+ * the scalar <= and <. A lane's result is its entry distance on a hit, +inf
+ * on a miss, and the returned mask has bit i set for a hit of child i. */
+#ifndef TT_ACCEL_RTREE_RTC_BOX_X86_H
+#define TT_ACCEL_RTREE_RTC_BOX_X86_H
+
+#include <immintrin.h>
+
+#include "accel/rtree/layout/rtc_layout.h"
+
+/* The ray broadcast to every lane once per ray (the widest register this
+ * unit has; narrower kernels take its low part). */
+typedef struct rtc_lanes {
+#if defined(__AVX512F__)
+    __m512 ox, oy, oz, ix, iy, iz, tmin;
+#elif defined(__AVX2__)
+    __m256 ox, oy, oz, ix, iy, iz, tmin;
+#else
+    __m128 ox, oy, oz, ix, iy, iz, tmin;
+#endif
+} rtc_lanes;
+
+static inline void rtc_lanes_init(rtc_lanes *s, const tt_wray *r)
+{
+#if defined(__AVX512F__)
+#define RTC_SET1 _mm512_set1_ps
+#elif defined(__AVX2__)
+#define RTC_SET1 _mm256_set1_ps
+#else
+#define RTC_SET1 _mm_set1_ps
+#endif
+    s->ox = RTC_SET1(r->org[0]);
+    s->oy = RTC_SET1(r->org[1]);
+    s->oz = RTC_SET1(r->org[2]);
+    s->ix = RTC_SET1(r->rcp[0]);
+    s->iy = RTC_SET1(r->rcp[1]);
+    s->iz = RTC_SET1(r->rcp[2]);
+    s->tmin = RTC_SET1(r->tmin);
+#undef RTC_SET1
+}
+
+#if defined(__AVX512F__)
+#define RTC_LO128(x) _mm512_castps512_ps128(x)
+#define RTC_LO256(x) _mm512_castps512_ps256(x)
+#elif defined(__AVX2__)
+#define RTC_LO128(x) _mm256_castps256_ps128(x)
+#define RTC_LO256(x) (x)
+#else
+#define RTC_LO128(x) (x)
+#endif
+
+/* Four children from g (a node's boxes plus the first child's position). */
+static inline uint32_t rtc_box4(const rtc_lanes *s, const tt_rt_planes *p, const float *g,
+                                float tmax, float *out)
+{
+    const __m128 ox = RTC_LO128(s->ox), oy = RTC_LO128(s->oy), oz = RTC_LO128(s->oz);
+    const __m128 ix = RTC_LO128(s->ix), iy = RTC_LO128(s->iy), iz = RTC_LO128(s->iz);
+    const __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->n[0]), ox), ix);
+    const __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->n[1]), oy), iy);
+    const __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->n[2]), oz), iz);
+    const __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->f[0]), ox), ix);
+    const __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->f[1]), oy), iy);
+    const __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->f[2]), oz), iz);
+    const __m128 inf = _mm_set1_ps(TT_INF);
+    const __m128 tn = _mm_max_ps(tnz, _mm_max_ps(tny, _mm_max_ps(tnx, RTC_LO128(s->tmin))));
+    const __m128 tf0 = _mm_min_ps(tfz, _mm_min_ps(tfy, _mm_min_ps(tfx, inf)));
+    const __m128 absmask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    const __m128 tf =
+        _mm_add_ps(tf0, _mm_mul_ps(_mm_and_ps(tf0, absmask), _mm_set1_ps(1.0f / 4194304.0f)));
+    const __m128 entry =
+        _mm_sub_ps(tn, _mm_mul_ps(_mm_and_ps(tn, absmask), _mm_set1_ps(1.0f / 65536.0f)));
+    const __m128 hit = _mm_and_ps(_mm_cmple_ps(tn, tf), _mm_cmplt_ps(entry, _mm_set1_ps(tmax)));
+    _mm_storeu_ps(out, _mm_or_ps(_mm_and_ps(hit, entry), _mm_andnot_ps(hit, inf)));
+    return (uint32_t)_mm_movemask_ps(hit);
+}
+
+#if defined(__AVX2__)
+/* Eight children. */
+static inline uint32_t rtc_box8(const rtc_lanes *s, const tt_rt_planes *p, const float *g,
+                                float tmax, float *out)
+{
+    const __m256 ox = RTC_LO256(s->ox), oy = RTC_LO256(s->oy), oz = RTC_LO256(s->oz);
+    const __m256 ix = RTC_LO256(s->ix), iy = RTC_LO256(s->iy), iz = RTC_LO256(s->iz);
+    const __m256 tnx = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->n[0]), ox), ix);
+    const __m256 tny = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->n[1]), oy), iy);
+    const __m256 tnz = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->n[2]), oz), iz);
+    const __m256 tfx = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->f[0]), ox), ix);
+    const __m256 tfy = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->f[1]), oy), iy);
+    const __m256 tfz = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->f[2]), oz), iz);
+    const __m256 inf = _mm256_set1_ps(TT_INF);
+    const __m256 tn =
+        _mm256_max_ps(tnz, _mm256_max_ps(tny, _mm256_max_ps(tnx, RTC_LO256(s->tmin))));
+    const __m256 tf0 = _mm256_min_ps(tfz, _mm256_min_ps(tfy, _mm256_min_ps(tfx, inf)));
+    const __m256 absmask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    const __m256 tf = _mm256_add_ps(
+        tf0, _mm256_mul_ps(_mm256_and_ps(tf0, absmask), _mm256_set1_ps(1.0f / 4194304.0f)));
+    const __m256 entry = _mm256_sub_ps(
+        tn, _mm256_mul_ps(_mm256_and_ps(tn, absmask), _mm256_set1_ps(1.0f / 65536.0f)));
+    const __m256 hit = _mm256_and_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ),
+                                     _mm256_cmp_ps(entry, _mm256_set1_ps(tmax), _CMP_LT_OQ));
+    _mm256_storeu_ps(out, _mm256_blendv_ps(inf, entry, hit));
+    return (uint32_t)_mm256_movemask_ps(hit);
+}
+#endif
+
+#if defined(__AVX512F__)
+/* Sixteen children. */
+static inline uint32_t rtc_box16(const rtc_lanes *s, const tt_rt_planes *p, const float *g,
+                                 float tmax, float *out)
+{
+    const __m512 tnx = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->n[0]), s->ox), s->ix);
+    const __m512 tny = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->n[1]), s->oy), s->iy);
+    const __m512 tnz = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->n[2]), s->oz), s->iz);
+    const __m512 tfx = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->f[0]), s->ox), s->ix);
+    const __m512 tfy = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->f[1]), s->oy), s->iy);
+    const __m512 tfz = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->f[2]), s->oz), s->iz);
+    const __m512 inf = _mm512_set1_ps(TT_INF);
+    const __m512 tn = _mm512_max_ps(tnz, _mm512_max_ps(tny, _mm512_max_ps(tnx, s->tmin)));
+    const __m512 tf0 = _mm512_min_ps(tfz, _mm512_min_ps(tfy, _mm512_min_ps(tfx, inf)));
+    const __m512 tf =
+        _mm512_add_ps(tf0, _mm512_mul_ps(_mm512_abs_ps(tf0), _mm512_set1_ps(1.0f / 4194304.0f)));
+    const __m512 entry =
+        _mm512_sub_ps(tn, _mm512_mul_ps(_mm512_abs_ps(tn), _mm512_set1_ps(1.0f / 65536.0f)));
+    const __mmask16 hit = _mm512_cmp_ps_mask(tn, tf, _CMP_LE_OQ) &
+                          _mm512_cmp_ps_mask(entry, _mm512_set1_ps(tmax), _CMP_LT_OQ);
+    _mm512_storeu_ps(out, _mm512_mask_blend_ps(hit, inf, entry));
+    return (uint32_t)hit;
+}
+#endif
+
+/* All S children of a node (S a multiple of 4, at most 16), the widest
+ * kernels first; with S a constant the loops vanish. */
+static inline uint32_t rtc_group_test(const rtc_lanes *s, const tt_rt_planes *p, const float *rec,
+                                      uint32_t S, float tmax, float *out)
+{
+    uint32_t mask = 0, i = 0;
+#if defined(__AVX512F__)
+    for (; i + 16 <= S; i += 16) mask |= rtc_box16(s, p, rec + i, tmax, out + i) << i;
+#endif
+#if defined(__AVX2__)
+    for (; i + 8 <= S; i += 8) mask |= rtc_box8(s, p, rec + i, tmax, out + i) << i;
+#endif
+    for (; i < S; i += 4) mask |= rtc_box4(s, p, rec + i, tmax, out + i) << i;
+    return mask;
+}
+
+#endif

@@ -1,0 +1,21 @@
+/* The compact layout's stack traversal with the child boxes tested by
+ * AVX-512 instructions (rtc_box_x86.h; this unit is compiled with that ISA's
+ * flags and runs only where tt_isa_supported says so). */
+#include "accel/rtree/rtc.h"
+#include "accel/rtree/trace/rtc_box_x86.h"
+#include "geometry/tri_block_avx512.h"
+
+#define RTC_ISA _avx512
+
+/* The triangle blocks: the ISA's own kernels (bit-identical to the scalar
+ * ones). */
+#define RTC_BLOCKS_INTERSECT tt_tri_blocks_intersect_avx512
+#define RTC_BLOCKS_OCCLUDED tt_tri_blocks_occluded_avx512
+
+#define TT_STATS 0
+#include "accel/stats_variant.h"
+#include "accel/rtree/trace/rtc_trace_stack.h"
+#undef TT_STATS
+#define TT_STATS 1
+#include "accel/stats_variant.h"
+#include "accel/rtree/trace/rtc_trace_stack.h"
