@@ -25,6 +25,20 @@ typedef enum tt_accel_gpu {
     TT_ACCEL_GPU_KDTREE  /* tt_kdtree's view                            */
 } tt_accel_gpu;
 
+/* The most rays one packet call takes: a batch's 16 x 16 tile. */
+#define TT_PACKET_MAX 256u
+
+/* A packet traversal's counts (the counting variant only): the rays'
+ * per-ray counts as single rays report them, and per packet what explains
+ * a win or a loss. */
+typedef struct tt_packet_stats {
+    tt_ray_stats rays;     /* nodes, boxes, triangles: summed over the rays */
+    uint64_t packets;      /* packet calls                                  */
+    uint64_t node_visits;  /* nodes the packet visited (once per packet)    */
+    uint64_t active_lanes; /* rays active at those visits, summed           */
+    uint64_t fallback_rays; /* rays finished as single rays (divergence)    */
+} tt_packet_stats;
+
 typedef struct tt_accel_vtable {
     const char *name;
     unsigned caps;    /* TT_CAP_* bits */
@@ -43,6 +57,19 @@ typedef struct tt_accel_vtable {
                             tt_trace_args *args, tt_ray_stats *stats);
     int (*occluded_stats)(const tt_accel *accel, const tt_wray *ray, tt_trace_args *args,
                           tt_ray_stats *stats);
+    /* Optional (NULL: the batch traces ray by ray): n <= TT_PACKET_MAX
+     * checked rays traced together as one coherent packet (a batch's tile).
+     * Every result equals `intersect`'s / `occluded`'s for that ray, bit for
+     * bit (prim, t, u, v). The _stats forms are the counting variants,
+     * compiled separately; they add into *stats. */
+    void (*intersect_packet)(const tt_accel *accel, const tt_wray *rays, uint32_t n,
+                             tt_hit *hits);
+    void (*occluded_packet)(const tt_accel *accel, const tt_wray *rays, uint32_t n,
+                            uint8_t *occluded);
+    void (*intersect_packet_stats)(const tt_accel *accel, const tt_wray *rays, uint32_t n,
+                                   tt_hit *hits, tt_packet_stats *stats);
+    void (*occluded_packet_stats)(const tt_accel *accel, const tt_wray *rays, uint32_t n,
+                                  uint8_t *occluded, tt_packet_stats *stats);
     /* Optional (NULL: TT_INVALID_ID): start hint for rays from point p. */
     uint32_t (*locate)(const tt_accel *accel, const float *p);
     /* Verifies the invariants; on failure reports through tt_error on

@@ -13,7 +13,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "accel/kdtree/kd_build_par.h"
+#include "accel/kdtree/build/kd_build_par.h"
 #include "check.h"
 
 /* ------------------------------------------------------------ allocator */

@@ -11,7 +11,7 @@
  * agree with bruteforce, whatever the budget; the fallback must actually
  * happen; and on the far soup the production budget must keep the work per
  * ray bounded (it used to take thousands of re-descents a ray). */
-#include "accel/kdtree/kd_trace_cpu.h"
+#include "accel/kdtree/trace/kd_trace_cpu.h"
 #include "accel/kdtree/kd_tree.h"
 #include "hard_rays.h"
 

@@ -12,7 +12,7 @@
  * must be HTR's (itself checked against bruteforce by test_views). */
 #include <string.h>
 
-#include "accel/kdtree/kd_trace_cpu.h"
+#include "accel/kdtree/trace/kd_trace_cpu.h"
 #include "compare.h"
 #include "kd_testing.h"
 

@@ -9,7 +9,7 @@
 #include "kd_scenes.h"
 #include "kd_testing.h"
 
-#include "accel/kdtree/kd_build_par.h"
+#include "accel/kdtree/build/kd_build_par.h"
 
 static tt_context *context_with(int threads)
 {

@@ -9,7 +9,7 @@
 #include "kd_scenes.h"
 #include "kd_testing.h"
 
-#include "accel/kdtree/kd_build.h"
+#include "accel/kdtree/build/kd_build.h"
 
 
 /* Rays straight down onto the plane and slanted ones through it. */

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "accel/rtree/rtree.h"
-#include "accel/rtree/rtree_build.h"
+#include "accel/rtree/build/rtree_build.h"
 #include "io/scene.h"
 #include "rtree_test.h"
 

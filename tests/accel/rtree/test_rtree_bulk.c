@@ -13,7 +13,7 @@
 #include <string.h>
 
 #include "accel/rtree/rtree.h"
-#include "accel/rtree/rtree_bulk.h"
+#include "accel/rtree/build/rtree_bulk.h"
 #include "compare.h"
 #include "io/scene.h"
 #include "rtree_test.h"
