@@ -357,7 +357,15 @@ typedef struct tt_batch_options {
      * in 2D visit the same nodes, so coherent rays trace faster. Results do
      * not depend on it. */
     uint32_t image_width;
+    /* Packet traversal (a structure whose vtable offers it): TT_PACKETS_AUTO
+     * (0, default) traces coherent batches in packets (image_width given, a
+     * shared origin, or coherent directions) and the others ray by ray;
+     * TT_PACKETS_OFF always ray by ray; TT_PACKETS_ON packets whenever the
+     * structure has them. Results do not depend on it. */
+    uint32_t packets;
 } tt_batch_options;
+
+enum { TT_PACKETS_AUTO = 0, TT_PACKETS_OFF = 1, TT_PACKETS_ON = 2 };
 
 void tt_batch_options_default(tt_batch_options *options);
 
