@@ -66,8 +66,9 @@ def test_structure_options(small_scene):
     assert (kd2["sah_cost"], kd2["nodes"], kd2["references"]) == (kd["sah_cost"], kd["nodes"],
                                                                   kd["references"])
     assert stats("kdtree", builder="binned")["sah_cost"] != kd["sah_cost"]
-    assert kd["dmin"] == 4
-    assert stats("kdtree", dmin=None)["N_B"] == 0
+    assert kd["dmin"] == -1  # auto with htr: no boxes below the root
+    assert stats("kdtree", traversal="sltr")["dmin"] == 4
+    assert stats("kdtree", dmin=None, traversal="sltr")["N_B"] == 1  # the root's box only
     s = stats("kdtree", dmin=2, cost_intersect=2.0)
     assert s["dmin"] == 2 and s["sah_cost"] != kd["sah_cost"]
     s = stats("kdtree", max_depth=12)
