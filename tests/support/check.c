@@ -126,7 +126,10 @@ const char *tt_test_scene_path(const char *file)
     static char path[4][4096];
     static int slot;
     char *p = path[slot++ & 3];
-    snprintf(p, sizeof path[0], "%s/%s", TT_SCENES_DIR, file);
+    /* the environment's TT_SCENES_DIR first (as for the Python tests),
+     * else the folder the build was configured with */
+    const char *dir = getenv("TT_SCENES_DIR");
+    snprintf(p, sizeof path[0], "%s/%s", dir && *dir ? dir : TT_SCENES_DIR, file);
     if (access(p, R_OK) != 0) tt_test_skip("shared scene %s is not present (set TT_SCENES_DIR)", p);
     return p;
 }
