@@ -53,8 +53,9 @@ def test_structure_options(small_scene):
     s = stats("rtree", strategy="rstar", M=8, m=3)
     assert s["M"] == 8 and s["m"] == 3
     insert = stats("rtree", build="insert")
-    for opts in ({"strategy": "rstar"}, {"split": "quadratic", "reinsert": False},
-                 {"reinsert_mode": "close", "reinsert_fraction": 0.4}):
+    # one option at a time, so that each must change the tree by itself
+    for opts in ({"strategy": "rstar"}, {"split": "quadratic"}, {"reinsert": False},
+                 {"reinsert_mode": "close"}, {"reinsert_fraction": 0.5}):
         changed = stats("rtree", build="insert", **opts)
         assert changed["sah_cost"] != insert["sah_cost"], opts
     assert stats("rtree", build="str")["sah_cost"] != stats("rtree", build="sah")["sah_cost"]
