@@ -122,6 +122,13 @@ tt_status tt_scene_triangle(const tt_scene *scene, size_t i, float out[9]);
  * written), so a stale size cannot overrun the caller's arrays. */
 tt_status tt_scene_copy_arrays(const tt_scene *scene, float *vertices, size_t vertex_capacity,
                                uint32_t *indices, float *triangles, size_t triangle_capacity);
+/* The geometric normals of `count` triangles (hit results' prim ids):
+ * normalize(cross(v1 - v0, v2 - v0)) of each, 3 floats to normals[3 i];
+ * (0, 0, 0) for TT_INVALID_ID (a miss) and for a degenerate triangle. Any
+ * other id past the scene's triangles is TT_ERR_INVALID_ARGUMENT, naming
+ * its index (the normals before it are written). */
+tt_status tt_scene_normals(const tt_scene *scene, const uint32_t *prims, size_t count,
+                           float *normals);
 
 /* --------------------------------------------------------------- rays, hits */
 
