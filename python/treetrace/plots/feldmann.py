@@ -87,16 +87,21 @@ def plot_table(rows: List[Row], spec: Dict, machine: Dict[str, str], out_dir: st
                 val, why = (val / b, why) if not math.isnan(b) else (math.nan, "reference: " + bwhy)
             vals[(v, s)] = (val, why)
     if not spec.get("ratio_to"):
-        series.append("Embree 3")
-        for v in views:
-            r = next(r for r in mine if "%s:%s" % (r["scene"], r["view"]) == v)
-            e = _embree(rows, r)
-            vals[(v, "Embree 3")] = _value(e)
+        # Embree with the same rays as each bar group's runs (Table 4 has two kinds)
+        kinds = sorted({r["rays"] for r in mine})
+        for kind in kinds:
+            name = "Embree 3" if len(kinds) == 1 else "Embree 3 %s" % kind
+            series.append(name)
+            for v in views:
+                r = next(r for r in mine
+                         if "%s:%s" % (r["scene"], r["view"]) == v and r["rays"] == kind)
+                vals[(v, name)] = _value(_embree(rows, r))
     fig = _style.figure(max(7.5, 1.3 * len(views) + 2.5), 3.6)
     ax = fig.subplots()
-    colours = [_style.OKABE_ITO[i] for i in range(len(series))]
-    if series[-1] == "Embree 3":
-        colours[-1] = _style.GREY
+    colours = [_style.GREY if n.startswith("Embree") else _style.OKABE_ITO[i]
+               for i, n in enumerate(series)]
+    if sum(n.startswith("Embree") for n in series) == 2:
+        colours[-2] = "#999999"
     grouped_bars(ax, views, series, vals, figure=spec["stem"], missing=missing,
                  what=spec["id"], ref=1.0 if spec.get("ratio_to") else None,
                  ref_label="R*-treeSrfc = 1.0", colours=colours)
