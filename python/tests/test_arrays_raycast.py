@@ -136,3 +136,36 @@ def test_arrays_on_a_big_scene_match():
     tri = s.triangles()
     v, i = s.arrays()
     assert tri.shape == (331179, 3, 3) and (tri == v[i]).all()
+
+
+def test_raycasting_scene_like_open3d(small_scene):
+    """Two meshes in one RaycastingScene: geometry ids and per-mesh triangle
+    ids as Open3D gives them, the hits those of one structure over both."""
+    v, i = small_scene.arrays()
+    shift = np.array([0.5, 0, 0], np.float32)
+    rc = tt.RaycastingScene(accel="kdtree")
+    assert rc.add_triangles(v, i) == 0
+    assert rc.add_triangles(v + shift, i.astype(np.int64)) == 1
+
+    class LegacyMesh:  # Open3D's legacy TriangleMesh: .vertices, .triangles
+        vertices, triangles = v + 2 * shift, i
+
+    assert rc.add_triangles(LegacyMesh()) == 2
+    both = tt.Scene.from_arrays(np.concatenate([v, v + shift, v + 2 * shift]),
+                                np.concatenate([i, i + len(v), i + 2 * len(v)]))
+    org, d, _, _ = random_rays(both, 2000, seed=11)
+    rays = np.concatenate([org, d], 1)
+    ans = rc.cast_rays(rays)
+    ref = tt.Accel(both, "kdtree").intersect(org, d)
+    hit = ref.prim != tt.INVALID_ID
+    assert hit.any() and np.array_equal(ans["t_hit"], ref.t)
+    n = small_scene.triangle_count
+    assert np.array_equal(ans["geometry_ids"][hit], ref.prim[hit] // n)
+    assert np.array_equal(ans["primitive_ids"][hit], ref.prim[hit] % n)
+    assert (ans["geometry_ids"][~hit] == tt.INVALID_ID).all()
+    assert (ans["primitive_ids"][~hit] == tt.INVALID_ID).all()
+    assert np.array_equal(rc.test_occlusions(rays), hit)
+    with pytest.raises(tt.InvalidArgumentError, match="nthreads"):
+        rc.cast_rays(rays, nthreads=4)
+    with pytest.raises(tt.InvalidArgumentError, match="outside"):
+        rc.add_triangles(v, [[0, 1, len(v)]])

@@ -1,7 +1,9 @@
 """Open3D-style ray casting: one (..., 6) ray array in, a dict of arrays out.
 
 Accel inherits cast_rays and test_occlusions from RayCasting. Code written
-for Open3D's RaycastingScene runs with the scene set up by treetrace:
+for Open3D's RaycastingScene runs with one line changed through
+treetrace.RaycastingScene (treetrace.o3d), or with the scene set up by
+treetrace:
 
     Open3D                                     treetrace
     scene = o3d.t.geometry.RaycastingScene()   scene = tt.Scene.from_arrays(V, F)
