@@ -90,7 +90,8 @@ def plot_view(scene: str, view: str, d: Dict, machine: Dict[str, str], out_dir: 
             label = {"HTR": "HTR (no boxes)", "SEQ": "SEQ (no boxes)", "Embree": "Embree 3"}.get(
                 name, name)
             ax.plot(x, ys, color=colour, marker=None if const else _style.MARKERS[i],
-                    markersize=4, linestyle="--" if const else "-", linewidth=1.6, label=label)
+                    markersize=4, linestyle={"HTR": "--", "SEQ": ":", "Embree": "-."}.get(name, "-"),
+                    linewidth=1.6, label=label)
             for dm, reason in gaps:
                 missing.add(stem, "%s %s" % (name, key), "d_min %d" % dm, reason)
                 ax.plot([dm], [0], marker="x", color=colour, markersize=7, clip_on=False,
