@@ -1,5 +1,5 @@
-/* `treetrace bench`: options -> scenes -> matrix -> runs -> results.csv and
- * report.md. */
+/* `treetrace bench`: options -> scenes -> matrix -> runs -> results.csv,
+ * report.md and the figures (python3 -m treetrace.plots). */
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
@@ -72,6 +72,7 @@ static int run_bench(const bench_options *o, FILE *err)
     snprintf(path, sizeof path, "%s/results.csv", out);
     int bad = bench_write_csv(path, &scenes, &m, &res, err);
     bad |= bench_write_report(ctx, out, o, &scenes, &m, &res, err);
+    if (!bad) bad |= bench_figures_draw(out, err);
     if (!bad) {
         size_t failed = 0;
         for (size_t i = 0; i < res.count; i++)
