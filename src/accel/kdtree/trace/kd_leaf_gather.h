@@ -2,11 +2,12 @@
  * compiled into the AVX-512 unit), for the fast traversal variants of
  * kd_trace_avx2.c / kd_trace_avx512.c. Include only from those units.
  *
- * Why gathers and not tri_block.h's blocks: a leaf's triangles are found
- * through refs[] in the scene's flat array, and packing them per leaf
- * (36 bytes a reference instead of 4) more than doubled the tree's memory
- * (bunny 10.6 -> 24.4 MB) for no measured gain. So the eight lanes are
- * gathered from tri[9 id + c] straight away.
+ * Why not tri_block.h's blocks: a leaf's triangles are found through
+ * refs[] in the scene's flat array, and packing them per leaf (36 bytes a
+ * reference instead of 4) more than doubled the tree's memory (bunny
+ * 10.6 -> 24.4 MB) for no measured gain. So the eight lanes are read from
+ * tri[9 id + c] straight away: once with hardware gathers, now with plain
+ * loads and a transpose (kd_load8), which are faster on AMD Zen 5.
  *
  * Bit-identical to tt_intersect_triangle lane by lane: the same operations
  * in the same order (no FMA: the unit is compiled with -ffp-contract=off),
