@@ -247,7 +247,7 @@ typedef struct tt_kdtree_options {
                             /* htr (it reads no boxes), TT_KD_DMIN_BOXES for  */
                             /* the others; resolved in the built accel        */
     float cost_traversal;   /* SAH C_T, default 1                              */
-    float cost_intersect;   /* SAH C_I, default 0.5 (the papers' tables: 1.5)  */
+    float cost_intersect;   /* SAH C_I, default 0.2 (the papers' tables: 1.5)  */
     float empty_bonus;      /* in [0, 1): a split with an empty side costs    */
                             /* (1 - bonus) x; default 0.2 (W&H's 0.8 factor)  */
     int max_depth;          /* 0: automatic (8 + 1.3 log2 N)                   */
