@@ -22,15 +22,15 @@ typedef struct pin {
 } pin;
 
 static const pin pins[] = {
-    {"cornell_box.obj", TT_KD_NLOGN, 0, 12.834707519577981, 25, 13, 70, 1},
-    {"cornell_box.obj", TT_KD_NLOG2N, 0, 12.834707519577981, 25, 13, 70, 1},
-    {"bun_zipper_res4.ply", TT_KD_NLOGN, 0, 31.087423968951782, 2405, 1203, 2884, 1},
-    {"bun_zipper_res4.ply", TT_KD_NLOG2N, 0, 31.087423968951782, 2405, 1203, 2884, 1},
+    {"cornell_box.obj", TT_KD_NLOGN, 0, 7.3417500708335854, 9, 5, 54, 1},
+    {"cornell_box.obj", TT_KD_NLOG2N, 0, 7.3417500708335854, 9, 5, 54, 1},
+    {"bun_zipper_res4.ply", TT_KD_NLOGN, 0, 24.5169985017675, 679, 340, 1903, 1},
+    {"bun_zipper_res4.ply", TT_KD_NLOG2N, 0, 24.5169985017675, 679, 340, 1903, 1},
     /* sparse boxes every TT_KD_DMIN_BOXES levels: the same tree, its boxes */
-    {"cornell_box.obj", TT_KD_NLOGN, 4, 12.834707519577981, 25, 13, 70, 4},
-    {"cornell_box.obj", TT_KD_NLOG2N, 4, 12.834707519577981, 25, 13, 70, 4},
-    {"bun_zipper_res4.ply", TT_KD_NLOGN, 4, 31.087423968951782, 2405, 1203, 2884, 296},
-    {"bun_zipper_res4.ply", TT_KD_NLOG2N, 4, 31.087423968951782, 2405, 1203, 2884, 296},
+    {"cornell_box.obj", TT_KD_NLOGN, 4, 7.3417500708335854, 9, 5, 54, 1},
+    {"cornell_box.obj", TT_KD_NLOG2N, 4, 7.3417500708335854, 9, 5, 54, 1},
+    {"bun_zipper_res4.ply", TT_KD_NLOGN, 4, 24.5169985017675, 679, 340, 1903, 85},
+    {"bun_zipper_res4.ply", TT_KD_NLOG2N, 4, 24.5169985017675, 679, 340, 1903, 85},
 };
 
 static void check_pin(const pin *p, int threads)
