@@ -7,12 +7,8 @@
  *     up to M); its unused child lanes are the +inf mark with no
  *     reference; its interior children are consecutive nodes whose parent
  *     link names it;
- *  3. every node's frame starts at the exact union of its entries' content
- *     (child boxes, or a leaf's triangles' vertices) and its scale reaches
- *     the union's far corner (zero on a flat axis); every used entry's
- *     decoded box contains its content's exact box and is the tightest
- *     that does (rtc_set_boxes: one step in on any bound would cut into
- *     it); unused entries are lo 255, hi 0, with no reference; level-1
+ *  3. every child box is finite and exactly the union of the child's
+ *     content (child boxes, or the leaf's triangles' vertices); level-1
  *     entries are leaf references, the others node references;
  *  4. leaves: m..M triangles (the root's only leaf may hold fewer) in
  *     lanes inside the block array that no other leaf holds, a node's
@@ -136,48 +132,30 @@ static tt_status check_node(walk *w, uint32_t n, uint32_t l, uint32_t parent, fl
         if (tt_rtc_is_leaf(ref[i]) || ref[i] != ref[0] + i || ref[0] <= n)
             return FAIL("rtree compact: the children of node %u are not consecutive nodes "
                         "after it (entry %u is node %u)", n, i, ref[i]);
-    const uint8_t *q = tt_rtc_qbox(rec);
-    float content[TT_RT_MAX_M][6];
     rt_box_empty(box);
     for (uint32_t i = 0; i < c->S; i++) {
+        float cb[6];
+        rtc_child_box(c, rec, i, cb);
         if (i >= cnt) {
-            int bad = ref[i] != TT_INVALID_ID;
-            for (uint32_t k = 0; k < 6; k++) bad |= q[k * c->S + i] != (k < 3 ? 255 : 0);
-            if (bad)
+            if (!rt_box_is_empty_mark(cb) || ref[i] != TT_INVALID_ID)
                 return FAIL("rtree compact: entry %u of node %u (which holds %u) is not marked "
                             "empty", i, n, cnt);
             continue;
         }
+        if (!rt_box_is_finite(cb))
+            return FAIL("rtree compact: entry %u of node %u has no valid box", i, n);
+        float content[6];
         tt_status st;
         if (l == 1) {
-            st = check_leaf(w, n, i, ref[i], is_root && cnt == 1, content[i]);
+            st = check_leaf(w, n, i, ref[i], is_root && cnt == 1, content);
         } else {
-            st = check_node(w, ref[i], l - 1, n, content[i]);
+            st = check_node(w, ref[i], l - 1, n, content);
         }
         if (st != TT_OK) return st;
-        rt_box_grow(box, content[i]);
-    }
-    for (uint32_t a = 0; a < 3 && cnt > 0; a++) {
-        const float o = rec[TT_RTC_ORIGIN + a], s = rec[TT_RTC_SCALE + a];
-        const int flat = !(box[a + 3] > box[a]);
-        if (o != box[a] || !(s >= 0.0f) || !isfinite(s) ||
-            (flat ? s != 0.0f : !(s > 0.0f) || tt_rtc_decode(o, s, 255) < box[a + 3]))
-            return FAIL("rtree compact: the frame of node %u (level %u) on axis %u is not the "
-                        "exact union of its content", n, l, a);
-        for (uint32_t i = 0; i < cnt; i++) {
-            const uint32_t ql = q[a * c->S + i], qh = q[(a + 3) * c->S + i];
-            const float lo = content[i][a], hi = content[i][a + 3];
-            const int ok =
-                flat ? ql == 0 && qh == 0
-                     : tt_rtc_decode(o, s, ql) <= lo &&
-                           (ql == 255 || tt_rtc_decode(o, s, ql + 1) > lo) &&
-                           tt_rtc_decode(o, s, qh) >= hi &&
-                           (qh == 0 || tt_rtc_decode(o, s, qh - 1) < hi);
-            if (!ok)
-                return FAIL("rtree compact: the box of entry %u of node %u (level %u) is not "
-                            "the tightest quantised box around the exact union of its content",
-                            i, n, l);
-        }
+        if (!rt_box_equal(cb, content))
+            return FAIL("rtree compact: the box of entry %u of node %u (level %u) is not the "
+                        "exact union of its content", i, n, l);
+        rt_box_grow(box, cb);
     }
     return TT_OK;
 }

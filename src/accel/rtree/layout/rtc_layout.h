@@ -1,57 +1,57 @@
 /* The R-tree's compact wide layout, shared by the CPU and GPU traversals:
- * only the tree's real nodes, in one array of fixed-size records with
- * quantised child boxes, and the leaves' triangles in SIMD blocks
- * (geometry/tri_block.h). Against the paper's complete level-order layout
- * (rtree_packed.h), whose empty slots are most of its memory, this costs
- * memory in proportion to the triangles. Announced to the other traversals
- * in notes/rtc-format.md: read a record only through the accessors below.
+ * only the tree's real nodes, in one array of fixed-size records, and the
+ * leaves' triangles in SIMD blocks (geometry/tri_block.h). Against the
+ * paper's complete level-order layout (rtree_packed.h), whose empty slots
+ * are most of its memory, this costs memory in proportion to the triangles.
+ * Announced to the other traversals in notes/rtc-format.md: read a record
+ * through the accessors below.
  *
  * A node is an interior node of the builder's tree; the builder's leaves
  * are not nodes here but tagged child references. Node record n (`words`
- * 32-bit words: 8 + 2.5 S rounded up to a multiple of 16, so records are
- * 64-byte aligned like the array; S = M rounded up to a multiple of 4, the
- * narrowest SIMD width; S = 16: 192 bytes, three cache lines, against 512
- * for float boxes):
- *   words 0-2:   origin x, y, z (float): the node's own box, lo corner;
- *   words 3-5:   scale x, y, z (float, >= 0);
- *   word 6:      the parent's node index (TT_INVALID_ID: the root);
- *   word 7:      entries (bits 0-7) and level (bits 8-15: 1 + the height of
- *                the node's subtree above its leaves; every child of a
- *                level-1 node is a leaf);
- *   bytes [32, 32 + 6S): the child boxes quantised to 8 bits in the node's
- *                box, structure of arrays: lo x[S], lo y[S], lo z[S], hi
- *                x[S], hi y[S], hi z[S]. Bound q on axis a decodes to
- *                origin[a] + (float)q * scale[a], two float operations
- *                rounded in that order and never fused (tt_rtc_decode; the
- *                SIMD kernels compute the same), and the packer picks the
- *                tightest q whose decoded box still contains the child's
- *                exact box (lo rounded down, hi up): a slab test of the
- *                decoded box is a slab test of a box around the child, as
- *                conservative as the float boxes were. Entries >= count
- *                are unused (q lo 255, hi 0); every traversal masks them
- *                out by the count, not by their bounds.
- *   words [8 + 1.5S, 8 + 2.5S): child references: a node index (bit 31
- *                clear), or a leaf (bit 31 set): its triangles are lanes
- *                [lane, lane + count) from the start of block `block`
- *                (ref = 1 << 31 | block << 7 | (count - 1) << 3 | lane;
- *                1 <= count <= 16, so a leaf covers one or two blocks);
- *                TT_INVALID_ID for an unused entry.
- * A node may mix leaf and node children (the tag, not the level, says
- * which; node children come first among the entries), so an unbalanced
- * wide tree fits the same records; the R-tree's builders give level-1
- * nodes only leaves and the others only nodes.
+ * 32-bit words, a multiple of 16, so records are 64-byte aligned like the
+ * array):
+ *   floats [0, 6S):    the child boxes in structure of arrays, S = M
+ *                      rounded up to a multiple of 4 (the narrowest SIMD
+ *                      width): lo x[S], lo y[S], lo z[S], hi x[S], hi y[S],
+ *                      hi z[S]. An unused child has all six bounds +inf,
+ *                      the mark every slab test misses (as in
+ *                      rtree_packed.h), so a SIMD kernel tests all S lanes.
+ *   words [6S, 7S):    child references: a node index (bit 31 clear), or a
+ *                      leaf (bit 31 set): its triangles are lanes [lane,
+ *                      lane + count) from the start of block `block` (ref =
+ *                      1 << 31 | block << 7 | (count - 1) << 3 | lane; 1 <=
+ *                      count <= 16, so a leaf covers one or two blocks);
+ *                      TT_INVALID_ID for an unused entry.
+ *   word 7S:           the parent's node index (TT_INVALID_ID: the root).
+ *   word 7S + 1:       entries (bits 0-7) and level (bits 8-15: 1 + the
+ *                      height of the node's subtree above its leaves; every
+ *                      child of a level-1 node is a leaf).
+ * Every leaf is on one level (an R-tree): the children of a level-1 node
+ * are all leaves, those of the others all nodes, and the traversals go by
+ * the level; the tag lets a reference say what it is on its own (the
+ * check, and code that walks references without levels).
+ *
+ * Quantised child boxes (8-bit offsets in the node's box, 192 bytes a
+ * record instead of 512 for M = 16) were built and measured (commit
+ * 962eb8f, notes/rtree.md): single rays were 23-27% slower on Sibenik. A
+ * ray's walk is a chain of dependent node tests, and decoding adds its
+ * latency to every link, while the float records mostly come from the
+ * caches anyway.
+ *
  * Node order: the root is node 0; the interior children of a node are
  * consecutive (so a node's entry position in its parent is its index
- * minus the parent's first child's, which the stackless walk needs) and subtrees are laid out depth first (a ray descending one
- * subtree stays in one region). Leaves are in the same depth-first order,
- * packed into the blocks first fit in that order: a leaf of up to 8
- * triangles goes into the lanes left in the last block when they suffice
- * (so small leaves share blocks), else into fresh blocks; a node's leaves
- * lie within 2 M blocks from its first leaf's. A block is always tested
- * whole, so a leaf's test may also test its neighbours' triangles:
- * harmless, they are real triangles of the scene (any hit found is a true
- * hit, and the closest one is still found in its own leaf), and SIMD pays
- * for all 8 lanes anyway; what it saves is the unused lanes' memory. */
+ * minus the parent's first child's, which the stackless walk needs) and
+ * subtrees are laid out depth first (a ray descending one subtree stays in
+ * one region). Leaves are in the same depth-first order, packed into the
+ * blocks first fit in that order: a leaf of up to 8 triangles goes into
+ * the lanes left in the last block when they suffice (so small leaves
+ * share blocks), else into fresh blocks; a node's leaves lie within 2 M
+ * blocks from its first leaf entry's, which is the lowest. A block is
+ * always tested whole, so a leaf's test may also test its neighbours'
+ * triangles: harmless, they are real triangles of the scene (any hit found
+ * is a true hit, and the closest one is still found in its own leaf), and
+ * SIMD pays for all 8 lanes anyway; what it saves is the unused lanes'
+ * memory. */
 #ifndef TT_ACCEL_RTREE_RTC_LAYOUT_H
 #define TT_ACCEL_RTREE_RTC_LAYOUT_H
 
@@ -76,39 +76,29 @@ typedef struct tt_rtc {
     const tt_tri_block *block;   /* 64-byte aligned                        */
 } tt_rtc;
 
-/* Word offsets in a record. */
-#define TT_RTC_ORIGIN 0
-#define TT_RTC_SCALE 3
-#define TT_RTC_PARENT 6
-#define TT_RTC_HEADER 7
-#define TT_RTC_QBOX 8 /* the quantised rows start here (bytes 32 on) */
-
-/* Record n's start. */
+/* Record n's start (its child boxes). */
 TT_HD const float *tt_rtc_node(const tt_rtc *t, uint32_t n)
 {
     return t->node + (size_t)n * t->words;
 }
-/* The quantised bound rows: row k (lo x, lo y, lo z, hi x, hi y, hi z) of
- * child i is byte k S + i. */
-TT_HD const uint8_t *tt_rtc_qbox(const float *rec) { return (const uint8_t *)(rec + TT_RTC_QBOX); }
+/* The child boxes' rows: bound k (lo x, lo y, lo z, hi x, hi y, hi z) of
+ * child i is rows[k S + i]. */
+TT_HD const float *tt_rtc_boxes(const float *rec) { return rec; }
 TT_HD const uint32_t *tt_rtc_child(const tt_rtc *t, const float *rec)
 {
-    return (const uint32_t *)(rec + TT_RTC_QBOX) + (3u * t->S) / 2u;
+    return (const uint32_t *)(rec + 6 * t->S);
 }
 TT_HD uint32_t tt_rtc_parent(const tt_rtc *t, const float *rec)
 {
-    (void)t;
-    return TT_LDG((const uint32_t *)rec + TT_RTC_PARENT);
+    return TT_LDG((const uint32_t *)(rec + 7 * t->S));
 }
 TT_HD uint32_t tt_rtc_count(const tt_rtc *t, const float *rec)
 {
-    (void)t;
-    return TT_LDG((const uint32_t *)rec + TT_RTC_HEADER) & 0xffu;
+    return TT_LDG((const uint32_t *)(rec + 7 * t->S) + 1) & 0xffu;
 }
 TT_HD uint32_t tt_rtc_level(const tt_rtc *t, const float *rec)
 {
-    (void)t;
-    return (TT_LDG((const uint32_t *)rec + TT_RTC_HEADER) >> 8) & 0xffu;
+    return (TT_LDG((const uint32_t *)(rec + 7 * t->S) + 1) >> 8) & 0xffu;
 }
 /* The mask of a record's used entries (bit i: entry i). */
 TT_HD uint32_t tt_rtc_used(const tt_rtc *t, const float *rec)
@@ -116,39 +106,10 @@ TT_HD uint32_t tt_rtc_used(const tt_rtc *t, const float *rec)
     return (uint32_t)(((uint64_t)1 << tt_rtc_count(t, rec)) - 1u);
 }
 
-/* One quantised bound: origin + q * scale, rounded twice, never fused (on
- * the GPU the intrinsics forbid the contraction nvcc would otherwise make;
- * the CPU units are compiled without contraction). The packer chose q with
- * this very function, so it must stay the traversals' arithmetic. */
-TT_HD float tt_rtc_decode(float origin, float scale, uint32_t q)
-{
-#ifdef __CUDA_ARCH__
-    return __fadd_rn(origin, __fmul_rn((float)q, scale));
-#else
-    return origin + (float)q * scale;
-#endif
-}
-
-/* Child i's decoded box (lo x y z, hi x y z). */
+/* Child i's box (lo x y z, hi x y z). */
 TT_HD void tt_rtc_child_box(const tt_rtc *t, const float *rec, uint32_t i, float out[6])
 {
-    const uint8_t *q = tt_rtc_qbox(rec);
-    for (uint32_t k = 0; k < 6; k++)
-        out[k] = tt_rtc_decode(TT_LDG(rec + TT_RTC_ORIGIN + k % 3), TT_LDG(rec + TT_RTC_SCALE + k % 3),
-                               TT_LDG(q + k * t->S + i));
-}
-
-/* All S child boxes decoded into float SoA rows of stride S (out[k S + i],
- * the row order above; unused entries decode too, mask them by
- * tt_rtc_used): the float record other traversals test with
- * tt_rt_box_test_at or their own SIMD. */
-TT_HD void tt_rtc_child_boxes(const tt_rtc *t, const float *rec, float *out)
-{
-    const uint8_t *q = tt_rtc_qbox(rec);
-    for (uint32_t k = 0; k < 6; k++) {
-        const float o = TT_LDG(rec + TT_RTC_ORIGIN + k % 3), s = TT_LDG(rec + TT_RTC_SCALE + k % 3);
-        for (uint32_t i = 0; i < t->S; i++) out[k * t->S + i] = tt_rtc_decode(o, s, TT_LDG(q + k * t->S + i));
-    }
+    for (uint32_t k = 0; k < 6; k++) out[k] = TT_LDG(rec + k * t->S + i);
 }
 
 /* A child reference: a leaf (bit 31) or a node index. */
@@ -169,11 +130,11 @@ TT_HD const tt_tri_block *tt_rtc_leaf_blocks(const tt_rtc *t, uint32_t ref, uint
     return t->block + tt_rtc_leaf_block(ref);
 }
 
-/* The record size for M entries: 8 + 2.5 S words rounded up to 16 words. */
+/* The record size for M entries: 7 S + 2 words rounded up to 16 words. */
 static inline uint32_t tt_rtc_words(uint32_t M)
 {
     const uint32_t S = (M + 3u) & ~3u;
-    return (TT_RTC_QBOX + (5u * S + 1u) / 2u + 15u) & ~15u;
+    return (7u * S + 2u + 15u) & ~15u;
 }
 
 /* The closing step of every compact traversal: *hit gets the closest hit

@@ -1,10 +1,8 @@
 /* Packing the builder's pointer tree (any builder: insertion or bulk
  * loading, they all fill rt_builder) into the compact layout
- * (rtc_layout.h). Boxes are quantised from the pointer tree's, never
+ * (rtc_layout.h). Boxes are copied verbatim from the pointer tree, never
  * recomputed, so the check (rtc_check.c) also verifies that the builder
- * kept every node box the exact union of its entries (each decoded child
- * box is the tightest around the exact one, and each node's frame starts
- * at its exact box). */
+ * kept every node box the exact union of its entries. */
 #include <math.h>
 #include <string.h>
 
@@ -13,7 +11,7 @@
 
 _Static_assert(TT_RT_MAX_M <= 16 && TT_TRI_BLOCK_W == 8,
                "a leaf reference holds a lane in a block (3 bits) and count - 1 (4 bits)");
-_Static_assert(TT_RT_MAX_M <= 32, "entry masks are 32 bits");
+_Static_assert(TT_RT_MAX_M <= 31, "entry masks are 32 bits");
 
 size_t rtc_bytes(const rtc_tree *t)
 {
@@ -78,65 +76,11 @@ static void count_tree(const rt_builder *b, uint32_t n, uint64_t *nodes, lanes_f
     for (int i = 0; i < h->count; i++) count_tree(b, ch[i], nodes, f);
 }
 
-/* ------------------------------------------------------- quantisation */
-
-/* The frame of an axis whose node box is [lo, hi]: origin lo, and the
- * least scale (tried upwards from the quotient) with which 255 decodes to
- * hi or beyond. Flat: scale 0. The quotient is taken in double so that a
- * box spanning most of the float range does not overflow. */
-static float axis_scale(float lo, float hi)
-{
-    if (!(hi > lo)) return 0.0f;
-    float s = (float)(((double)hi - (double)lo) / 255.0);
-    if (!(s > 0.0f)) s = 1e-45f; /* the smallest subnormal */
-    for (int k = 0; tt_rtc_decode(lo, s, 255) < hi; k++)
-        s = k < 8 ? nextafterf(s, TT_INF) : 2.0f * s;
-    return s;
-}
-
-/* The tightest q whose decoding is at most v (lo bounds) or at least v (hi
- * bounds), v within the frame. */
-static uint8_t quant_lo(float o, float s, float v)
-{
-    if (s == 0.0f) return 0;
-    double g = floor(((double)v - (double)o) / (double)s);
-    int q = g < 0.0 ? 0 : g > 255.0 ? 255 : (int)g;
-    while (q > 0 && tt_rtc_decode(o, s, (uint32_t)q) > v) q--;
-    while (q < 255 && tt_rtc_decode(o, s, (uint32_t)q + 1) <= v) q++;
-    return (uint8_t)q;
-}
-
-static uint8_t quant_hi(float o, float s, float v)
-{
-    if (s == 0.0f) return 0;
-    double g = ceil(((double)v - (double)o) / (double)s);
-    int q = g < 0.0 ? 0 : g > 255.0 ? 255 : (int)g;
-    while (q < 255 && tt_rtc_decode(o, s, (uint32_t)q) < v) q++;
-    while (q > 0 && tt_rtc_decode(o, s, (uint32_t)q - 1) >= v) q--;
-    return (uint8_t)q;
-}
-
 void rtc_set_boxes(const tt_rtc *c, float *rec, const float *box, uint32_t stride, uint32_t count)
 {
-    const uint32_t S = c->S;
-    float node[6];
-    rt_box_empty(node);
-    for (uint32_t i = 0; i < count; i++)
-        for (uint32_t a = 0; a < 3; a++) {
-            node[a] = rt_min(node[a], box[a * stride + i]);
-            node[a + 3] = rt_max(node[a + 3], box[(a + 3) * stride + i]);
-        }
-    uint8_t *q = (uint8_t *)(rec + TT_RTC_QBOX);
-    for (uint32_t a = 0; a < 3; a++) {
-        const float o = count ? node[a] : 0.0f;
-        const float s = count ? axis_scale(node[a], node[a + 3]) : 0.0f;
-        rec[TT_RTC_ORIGIN + a] = o;
-        rec[TT_RTC_SCALE + a] = s;
-        for (uint32_t i = 0; i < S; i++) {
-            q[a * S + i] = i < count ? quant_lo(o, s, box[a * stride + i]) : 255;
-            q[(a + 3) * S + i] = i < count ? quant_hi(o, s, box[(a + 3) * stride + i]) : 0;
-        }
-    }
+    for (uint32_t k = 0; k < 6; k++)
+        for (uint32_t i = 0; i < c->S; i++)
+            rec[k * c->S + i] = i < count ? box[k * stride + i] : TT_INF;
 }
 
 typedef struct packer {
@@ -149,20 +93,17 @@ typedef struct packer {
     lanes_fill fill;
 } packer;
 
-/* Empties record n: no entries (quantised lo 255, hi 0; no reference),
- * the header. */
+/* Empties record n's child rows (+inf: always missed) and references. */
 static float *record_init(packer *pk, uint32_t n, uint32_t parent, uint32_t count, uint32_t level)
 {
     const uint32_t S = pk->c->S;
     float *rec = pk->node + (size_t)n * pk->c->words;
     for (uint32_t i = 0; i < pk->c->words; i++) rec[i] = 0.0f;
-    uint8_t *q = (uint8_t *)(rec + TT_RTC_QBOX);
-    memset(q, 255, 3 * S);
-    uint32_t *w = (uint32_t *)rec;
-    w[TT_RTC_PARENT] = parent;
-    w[TT_RTC_HEADER] = count | level << 8;
-    uint32_t *ref = (uint32_t *)tt_rtc_child(pk->c, rec);
-    for (uint32_t i = 0; i < S; i++) ref[i] = TT_INVALID_ID;
+    for (uint32_t i = 0; i < 6 * S; i++) rec[i] = TT_INF;
+    uint32_t *w = (uint32_t *)(rec + 6 * S);
+    for (uint32_t i = 0; i < S; i++) w[i] = TT_INVALID_ID;
+    w[S] = parent;
+    w[S + 1] = count | level << 8;
     return rec;
 }
 

@@ -1,14 +1,11 @@
 /* The slab test of a compact node's child boxes (rtc_layout.h) on x86 SIMD
- * registers, 4, 8 or 16 children per instruction, each bound first decoded
- * from its byte as tt_rtc_decode does (origin + (float)q * scale, a
- * multiplication and an addition, no FMA), so the box tested is the very
- * box the packer made sure contains the child's: for inclusion in the
+ * registers, 4, 8 or 16 children per instruction: for inclusion in the
  * per-ISA units rtc_trace_sse42.c / _avx2.c / _avx512.c only, which are
  * compiled with that ISA's flags (the wider kernels exist where __AVX2__ /
  * __AVX512F__ says the unit may use them).
  *
  * Each lane computes exactly what tt_rt_box_test_at (rtree_packed.h)
- * computes for one decoded box, with the same operations in the same order (no FMA:
+ * computes for one box, with the same operations in the same order (no FMA:
  * the units are compiled with -ffp-contract=off), so every ISA path visits
  * the same boxes: max(candidate, accumulator) and min(candidate,
  * accumulator) return the accumulator when either operand is NaN, exactly
@@ -19,7 +16,6 @@
 #define TT_ACCEL_RTREE_RTC_BOX_X86_H
 
 #include <immintrin.h>
-#include <string.h>
 
 #include "accel/rtree/layout/rtc_layout.h"
 
@@ -64,55 +60,18 @@ static inline void rtc_lanes_init(rtc_lanes *s, const tt_wray *r)
 #define RTC_LO128(x) (x)
 #endif
 
-/* The node's frame broadcast: origin and scale per axis. */
-typedef struct rtc_frame {
-#if defined(__AVX512F__)
-    __m512 o[3], s[3];
-#elif defined(__AVX2__)
-    __m256 o[3], s[3];
-#else
-    __m128 o[3], s[3];
-#endif
-} rtc_frame;
-
-static inline void rtc_frame_init(rtc_frame *f, const float *rec)
-{
-    for (int a = 0; a < 3; a++) {
-#if defined(__AVX512F__)
-        f->o[a] = _mm512_set1_ps(rec[TT_RTC_ORIGIN + a]);
-        f->s[a] = _mm512_set1_ps(rec[TT_RTC_SCALE + a]);
-#elif defined(__AVX2__)
-        f->o[a] = _mm256_set1_ps(rec[TT_RTC_ORIGIN + a]);
-        f->s[a] = _mm256_set1_ps(rec[TT_RTC_SCALE + a]);
-#else
-        f->o[a] = _mm_set1_ps(rec[TT_RTC_ORIGIN + a]);
-        f->s[a] = _mm_set1_ps(rec[TT_RTC_SCALE + a]);
-#endif
-    }
-}
-
-/* Four bounds of a row from byte q, decoded on axis a. */
-static inline __m128 rtc_dec4(const rtc_frame *f, int a, const uint8_t *q)
-{
-    int32_t w;
-    memcpy(&w, q, 4);
-    const __m128 x = _mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(w)));
-    return _mm_add_ps(RTC_LO128(f->o[a]), _mm_mul_ps(x, RTC_LO128(f->s[a])));
-}
-
-/* Four children from q (a node's bound rows plus the first child's
- * position). */
-static inline uint32_t rtc_box4(const rtc_lanes *s, const tt_rt_planes *p, const rtc_frame *f,
-                                const uint8_t *q, float tmax, float *out)
+/* Four children from g (a node's boxes plus the first child's position). */
+static inline uint32_t rtc_box4(const rtc_lanes *s, const tt_rt_planes *p, const float *g,
+                                float tmax, float *out)
 {
     const __m128 ox = RTC_LO128(s->ox), oy = RTC_LO128(s->oy), oz = RTC_LO128(s->oz);
     const __m128 ix = RTC_LO128(s->ix), iy = RTC_LO128(s->iy), iz = RTC_LO128(s->iz);
-    const __m128 tnx = _mm_mul_ps(_mm_sub_ps(rtc_dec4(f, 0, q + p->n[0]), ox), ix);
-    const __m128 tny = _mm_mul_ps(_mm_sub_ps(rtc_dec4(f, 1, q + p->n[1]), oy), iy);
-    const __m128 tnz = _mm_mul_ps(_mm_sub_ps(rtc_dec4(f, 2, q + p->n[2]), oz), iz);
-    const __m128 tfx = _mm_mul_ps(_mm_sub_ps(rtc_dec4(f, 0, q + p->f[0]), ox), ix);
-    const __m128 tfy = _mm_mul_ps(_mm_sub_ps(rtc_dec4(f, 1, q + p->f[1]), oy), iy);
-    const __m128 tfz = _mm_mul_ps(_mm_sub_ps(rtc_dec4(f, 2, q + p->f[2]), oz), iz);
+    const __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->n[0]), ox), ix);
+    const __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->n[1]), oy), iy);
+    const __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->n[2]), oz), iz);
+    const __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->f[0]), ox), ix);
+    const __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->f[1]), oy), iy);
+    const __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(g + p->f[2]), oz), iz);
     const __m128 inf = _mm_set1_ps(TT_INF);
     const __m128 tn = _mm_max_ps(tnz, _mm_max_ps(tny, _mm_max_ps(tnx, RTC_LO128(s->tmin))));
     const __m128 tf0 = _mm_min_ps(tfz, _mm_min_ps(tfy, _mm_min_ps(tfx, inf)));
@@ -127,25 +86,18 @@ static inline uint32_t rtc_box4(const rtc_lanes *s, const tt_rt_planes *p, const
 }
 
 #if defined(__AVX2__)
-static inline __m256 rtc_dec8(const rtc_frame *f, int a, const uint8_t *q)
-{
-    const __m256 x =
-        _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)q)));
-    return _mm256_add_ps(RTC_LO256(f->o[a]), _mm256_mul_ps(x, RTC_LO256(f->s[a])));
-}
-
 /* Eight children. */
-static inline uint32_t rtc_box8(const rtc_lanes *s, const tt_rt_planes *p, const rtc_frame *f,
-                                const uint8_t *q, float tmax, float *out)
+static inline uint32_t rtc_box8(const rtc_lanes *s, const tt_rt_planes *p, const float *g,
+                                float tmax, float *out)
 {
     const __m256 ox = RTC_LO256(s->ox), oy = RTC_LO256(s->oy), oz = RTC_LO256(s->oz);
     const __m256 ix = RTC_LO256(s->ix), iy = RTC_LO256(s->iy), iz = RTC_LO256(s->iz);
-    const __m256 tnx = _mm256_mul_ps(_mm256_sub_ps(rtc_dec8(f, 0, q + p->n[0]), ox), ix);
-    const __m256 tny = _mm256_mul_ps(_mm256_sub_ps(rtc_dec8(f, 1, q + p->n[1]), oy), iy);
-    const __m256 tnz = _mm256_mul_ps(_mm256_sub_ps(rtc_dec8(f, 2, q + p->n[2]), oz), iz);
-    const __m256 tfx = _mm256_mul_ps(_mm256_sub_ps(rtc_dec8(f, 0, q + p->f[0]), ox), ix);
-    const __m256 tfy = _mm256_mul_ps(_mm256_sub_ps(rtc_dec8(f, 1, q + p->f[1]), oy), iy);
-    const __m256 tfz = _mm256_mul_ps(_mm256_sub_ps(rtc_dec8(f, 2, q + p->f[2]), oz), iz);
+    const __m256 tnx = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->n[0]), ox), ix);
+    const __m256 tny = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->n[1]), oy), iy);
+    const __m256 tnz = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->n[2]), oz), iz);
+    const __m256 tfx = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->f[0]), ox), ix);
+    const __m256 tfy = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->f[1]), oy), iy);
+    const __m256 tfz = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->f[2]), oz), iz);
     const __m256 inf = _mm256_set1_ps(TT_INF);
     const __m256 tn =
         _mm256_max_ps(tnz, _mm256_max_ps(tny, _mm256_max_ps(tnx, RTC_LO256(s->tmin))));
@@ -163,23 +115,16 @@ static inline uint32_t rtc_box8(const rtc_lanes *s, const tt_rt_planes *p, const
 #endif
 
 #if defined(__AVX512F__)
-static inline __m512 rtc_dec16(const rtc_frame *f, int a, const uint8_t *q)
-{
-    const __m512 x =
-        _mm512_cvtepi32_ps(_mm512_cvtepu8_epi32(_mm_loadu_si128((const __m128i *)q)));
-    return _mm512_add_ps(f->o[a], _mm512_mul_ps(x, f->s[a]));
-}
-
 /* Sixteen children. */
-static inline uint32_t rtc_box16(const rtc_lanes *s, const tt_rt_planes *p, const rtc_frame *f,
-                                 const uint8_t *q, float tmax, float *out)
+static inline uint32_t rtc_box16(const rtc_lanes *s, const tt_rt_planes *p, const float *g,
+                                 float tmax, float *out)
 {
-    const __m512 tnx = _mm512_mul_ps(_mm512_sub_ps(rtc_dec16(f, 0, q + p->n[0]), s->ox), s->ix);
-    const __m512 tny = _mm512_mul_ps(_mm512_sub_ps(rtc_dec16(f, 1, q + p->n[1]), s->oy), s->iy);
-    const __m512 tnz = _mm512_mul_ps(_mm512_sub_ps(rtc_dec16(f, 2, q + p->n[2]), s->oz), s->iz);
-    const __m512 tfx = _mm512_mul_ps(_mm512_sub_ps(rtc_dec16(f, 0, q + p->f[0]), s->ox), s->ix);
-    const __m512 tfy = _mm512_mul_ps(_mm512_sub_ps(rtc_dec16(f, 1, q + p->f[1]), s->oy), s->iy);
-    const __m512 tfz = _mm512_mul_ps(_mm512_sub_ps(rtc_dec16(f, 2, q + p->f[2]), s->oz), s->iz);
+    const __m512 tnx = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->n[0]), s->ox), s->ix);
+    const __m512 tny = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->n[1]), s->oy), s->iy);
+    const __m512 tnz = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->n[2]), s->oz), s->iz);
+    const __m512 tfx = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->f[0]), s->ox), s->ix);
+    const __m512 tfy = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->f[1]), s->oy), s->iy);
+    const __m512 tfz = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->f[2]), s->oz), s->iz);
     const __m512 inf = _mm512_set1_ps(TT_INF);
     const __m512 tn = _mm512_max_ps(tnz, _mm512_max_ps(tny, _mm512_max_ps(tnx, s->tmin)));
     const __m512 tf0 = _mm512_min_ps(tfz, _mm512_min_ps(tfy, _mm512_min_ps(tfx, inf)));
@@ -199,17 +144,14 @@ static inline uint32_t rtc_box16(const rtc_lanes *s, const tt_rt_planes *p, cons
 static inline uint32_t rtc_group_test(const rtc_lanes *s, const tt_rt_planes *p, const float *rec,
                                       uint32_t S, float tmax, float *out)
 {
-    rtc_frame f;
-    rtc_frame_init(&f, rec);
-    const uint8_t *q = tt_rtc_qbox(rec);
     uint32_t mask = 0, i = 0;
 #if defined(__AVX512F__)
-    for (; i + 16 <= S; i += 16) mask |= rtc_box16(s, p, &f, q + i, tmax, out + i) << i;
+    for (; i + 16 <= S; i += 16) mask |= rtc_box16(s, p, rec + i, tmax, out + i) << i;
 #endif
 #if defined(__AVX2__)
-    for (; i + 8 <= S; i += 8) mask |= rtc_box8(s, p, &f, q + i, tmax, out + i) << i;
+    for (; i + 8 <= S; i += 8) mask |= rtc_box8(s, p, rec + i, tmax, out + i) << i;
 #endif
-    for (; i < S; i += 4) mask |= rtc_box4(s, p, &f, q + i, tmax, out + i) << i;
+    for (; i < S; i += 4) mask |= rtc_box4(s, p, rec + i, tmax, out + i) << i;
     return mask;
 }
 

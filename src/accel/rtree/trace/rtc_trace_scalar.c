@@ -11,20 +11,12 @@ typedef struct rtc_lanes {
 
 static inline void rtc_lanes_init(rtc_lanes *s, const tt_wray *r) { s->r = r; }
 
-/* The child boxes decoded into float rows (rtc_layout.h), then tested one
- * by one. */
 static inline uint32_t rtc_group_test(const rtc_lanes *s, const tt_rt_planes *p, const float *rec,
                                       uint32_t S, float tmax, float *out)
 {
-    float box[6 * TT_RT_MAX_M];
-    const uint8_t *q = tt_rtc_qbox(rec);
-    for (uint32_t k = 0; k < 6; k++)
-        for (uint32_t i = 0; i < S; i++)
-            box[k * S + i] = tt_rtc_decode(rec[TT_RTC_ORIGIN + k % 3], rec[TT_RTC_SCALE + k % 3],
-                                           q[k * S + i]);
     uint32_t mask = 0;
     for (uint32_t i = 0; i < S; i++) {
-        out[i] = tt_rt_box_test_at(s->r, p, box + i, tmax);
+        out[i] = tt_rt_box_test_at(s->r, p, rec + i, tmax);
         mask |= (uint32_t)(out[i] < tmax) << i;
     }
     return mask;

@@ -4,19 +4,18 @@
  * (accel/stats_variant.h). The including unit defines
  *   RTC_FN(name)       the name with the unit's ISA suffix;
  *   rtc_lanes, rtc_lanes_init(lanes, ray), rtc_group_test(lanes, planes,
- *                      record, S, tmax, out) -> hit mask: all S child
- *                      boxes of a node (decoded from their quantised bytes)
- *                      in one step, out[i] the entry or +inf;
+ *                      node, S, tmax, out) -> hit mask: all S child boxes
+ *                      of a node in one step, out[i] the entry or +inf;
  *   RTC_BLOCKS_INTERSECT(ray, blocks, n, hit), RTC_BLOCKS_OCCLUDED(ray,
  *                      blocks, n, tmax): the unit's triangle-block kernels.
  *
  * Closest hit: a node's hit children are sorted by entry distance; the
  * nearest is entered at once and the others pushed farthest first, so the
  * stack top is always the nearest waiting entry; a popped entry whose
- * entry distance is not below the closest hit found since is skipped.
- * Leaf children (all of a level-1 node's) are tested in that near-to-far
- * order without touching the stack, stopping at the first one beyond the
- * closest hit. Occlusion takes the same near-to-far order and ends at the first
+ * entry distance is not below the closest hit found since is skipped. On
+ * level 1 the children are leaves, tested in that near-to-far order
+ * without touching the stack, stopping at the first one beyond the closest
+ * hit. Occlusion takes the same near-to-far order and ends at the first
  * hit: visiting children in memory order instead was slower for shadow
  * rays on the bunny and Sibenik (a near occluder is found later), as the
  * complete layout's ordered traversal also measured. */
@@ -32,19 +31,20 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
     h.prim = TT_INVALID_ID;
     uint32_t stack_node[TT_RTC_STACK_SIZE];
     float stack_t[TT_RTC_STACK_SIZE];
-    uint32_t sp = 0;
+    uint8_t stack_l[TT_RTC_STACK_SIZE]; /* levels travel with the entries: */
+    uint32_t sp = 0;                    /* no read of the record's header */
     rtc_lanes lanes;
     rtc_lanes_init(&lanes, r);
     tt_rt_planes planes; /* the ray's near/far bound rows, once per ray */
     tt_rt_planes_init(&planes, r, S);
     (void)stats;
     TT_COUNT(stats, rays, 1);
-    uint32_t n = 0;
+    uint32_t n = 0, level = t->height;
     for (;;) {
         const float *rec = tt_rtc_node(t, n);
         const uint32_t *child = tt_rtc_child(t, rec);
         float tb[TT_RT_MAX_M];
-        uint32_t mask = rtc_group_test(&lanes, &planes, rec, S, h.t, tb) & tt_rtc_used(t, rec);
+        uint32_t mask = rtc_group_test(&lanes, &planes, rec, S, h.t, tb);
         TT_COUNT(stats, nodes, 1);
         TT_COUNT(stats, interior, 1);
         TT_COUNT(stats, boxes, tt_rtc_count(t, rec));
@@ -66,51 +66,42 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
                 ot[j] = ti;
                 ord[j] = i;
             }
-            /* Leaves are tested at once, near to far, stopping at the first
-             * one beyond the closest hit; node children wait. Leaves share
-             * blocks (rtc_layout.h): a block already tested for this node
-             * is not tested again, which is exact: that test already saw
-             * every triangle of it below a larger (or the same) closest
-             * hit. This node's blocks lie within 2 M of its first leaf's,
-             * which has the lowest index. */
-            uint32_t nk = 0; /* node children, near to far, compacted */
-            uint64_t done = 0;
-            uint32_t base = TT_INVALID_ID;
-            for (uint32_t j = 0; j < k && ot[j] < h.t; j++) {
-                const uint32_t ref = child[ord[j]];
-                if (!tt_rtc_is_leaf(ref)) {
-                    ord[nk] = ref;
-                    ot[nk++] = ot[j];
-                    continue;
-                }
-                if (base == TT_INVALID_ID) { /* the first leaf entry's block */
-                    uint32_t e = 0;
-                    while (!tt_rtc_is_leaf(child[e])) e++;
-                    base = tt_rtc_leaf_block(child[e]);
-                }
-                uint32_t nb;
-                const tt_tri_block *b = tt_rtc_leaf_blocks(t, ref, &nb);
-                const uint32_t off = tt_rtc_leaf_block(ref) - base;
-                TT_COUNT(stats, nodes, 1);
-                TT_COUNT(stats, leaves, 1);
-                for (uint32_t q = 0; q < nb; q++) {
-                    const uint64_t bit = (uint64_t)1 << (off + q);
-                    if (done & bit) continue;
-                    done |= bit;
-                    TT_COUNT(stats, triangles, TT_TRI_BLOCK_W);
-                    if (any) {
-                        if (RTC_BLOCKS_OCCLUDED(r, b + q, 1, h.t)) return 1;
-                    } else {
-                        RTC_BLOCKS_INTERSECT(r, b + q, 1, &h);
+            if (level == 1) {
+                /* Leaves share blocks (rtc_layout.h): a block already
+                 * tested for this node is not tested again, which is
+                 * exact: that test already saw every triangle of it below
+                 * a larger (or the same) closest hit. This node's blocks
+                 * lie within 2 M of its first leaf's, which has the
+                 * lowest index. */
+                const uint32_t base = tt_rtc_leaf_block(child[0]);
+                uint64_t done = 0;
+                for (uint32_t j = 0; j < k && ot[j] < h.t; j++) {
+                    const uint32_t ref = child[ord[j]];
+                    uint32_t nb;
+                    const tt_tri_block *b = tt_rtc_leaf_blocks(t, ref, &nb);
+                    const uint32_t off = tt_rtc_leaf_block(ref) - base;
+                    TT_COUNT(stats, nodes, 1);
+                    TT_COUNT(stats, leaves, 1);
+                    for (uint32_t q = 0; q < nb; q++) {
+                        const uint64_t bit = (uint64_t)1 << (off + q);
+                        if (done & bit) continue;
+                        done |= bit;
+                        TT_COUNT(stats, triangles, TT_TRI_BLOCK_W);
+                        if (any) {
+                            if (RTC_BLOCKS_OCCLUDED(r, b + q, 1, h.t)) return 1;
+                        } else {
+                            RTC_BLOCKS_INTERSECT(r, b + q, 1, &h);
+                        }
                     }
                 }
-            }
-            if (nk) {
-                for (uint32_t j = nk - 1; j > 0; j--) {
-                    stack_node[sp] = ord[j];
+            } else {
+                for (uint32_t j = k - 1; j > 0; j--) {
+                    stack_node[sp] = child[ord[j]];
+                    stack_l[sp] = (uint8_t)(level - 1);
                     stack_t[sp++] = ot[j];
                 }
-                n = ord[0];
+                n = child[ord[0]];
+                level--;
                 continue;
             }
         }
@@ -120,6 +111,7 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
             sp--;
             if (stack_t[sp] < h.t) {
                 n = stack_node[sp];
+                level = stack_l[sp];
                 break;
             }
         }
@@ -127,6 +119,7 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
 done:
     return tt_rtc_finish(any, &h, hit);
 }
+
 /* The entry point: specialised for S = 4, 8, 16 (the group test's loops
  * and offsets fold) and for closest hit / occlusion. */
 int TT_VARIANT(RTC_FN(tt_rtc_stack))(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,

@@ -2,11 +2,10 @@
  * compiled once per statistics variant (accel/stats_variant.h), scalar and
  * TT_HD so the GPU can run it. Feldmann's Listing 1 walks the complete tree
  * by index arithmetic; here the same walk uses the stored links: at node n
- * the children are tested in memory order from position i (each box
- * decoded from its bytes, rtc_layout.h); a hit node child is entered at
+ * the children are tested in memory order from position i; a hit node child is entered at
  * position 0, a hit leaf tested; when n's entries are exhausted the walk
  * climbs to the parent and resumes after n's position there (n minus the
- * parent's first child: node children are consecutive and come first). The
+ * parent's first child: siblings are consecutive). The
  * state is (n, i) and the running closest hit, nothing else. */
 #include "accel/rtree/layout/rtc_layout.h"
 
@@ -17,8 +16,8 @@ TT_HD int TT_VARIANT(tt_rtc_stackless)(const tt_rtc *TT_RESTRICT t, const tt_wra
     h.t = r->tmax;
     h.u = h.v = 0.0f;
     h.prim = TT_INVALID_ID;
-    tt_rt_planes planes; /* for one decoded box: rows of stride 1 */
-    tt_rt_planes_init(&planes, r, 1);
+    tt_rt_planes planes;
+    tt_rt_planes_init(&planes, r, t->S);
     (void)stats;
     TT_COUNT(stats, rays, 1);
     uint32_t n = 0, i = 0;
@@ -31,9 +30,7 @@ TT_HD int TT_VARIANT(tt_rtc_stackless)(const tt_rtc *TT_RESTRICT t, const tt_wra
         int down = 0;
         for (; i < cnt; i++) {
             TT_COUNT(stats, boxes, 1);
-            float box[6];
-            tt_rtc_child_box(t, rec, i, box);
-            if (!(tt_rt_box_test_at(r, &planes, box, h.t) < h.t)) continue;
+            if (!(tt_rt_box_test_at(r, &planes, rec + i, h.t) < h.t)) continue;
             const uint32_t ref = TT_LDG(child + i);
             TT_COUNT(stats, nodes, 1);
             if (tt_rtc_is_leaf(ref)) {
