@@ -2,11 +2,12 @@
  * compiled once per statistics variant (accel/stats_variant.h), scalar and
  * TT_HD so the GPU can run it. Feldmann's Listing 1 walks the complete tree
  * by index arithmetic; here the same walk uses the stored links: at node n
- * the children are tested in memory order from position i; a hit node child is entered at
- * position 0, a hit leaf tested; when n's entries are exhausted the walk
- * climbs to the parent and resumes after n's position there (n minus the
- * parent's first child: siblings are consecutive). The
- * state is (n, i) and the running closest hit, nothing else. */
+ * the children are tested in memory order from position i; a hit node
+ * child is entered at position 0, a hit leaf (its reference says so, no
+ * level needed) tested; when n's entries are exhausted the walk climbs to
+ * the parent and resumes after n's position there (n minus the parent's
+ * first child: siblings are consecutive). The state is (n, i) and the
+ * running closest hit, nothing else. */
 #include "accel/rtree/layout/rtc_layout.h"
 
 TT_HD int TT_VARIANT(tt_rtc_stackless)(const tt_rtc *TT_RESTRICT t, const tt_wray *r, int any,
