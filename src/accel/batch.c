@@ -15,6 +15,7 @@
 
 #define MAX_CHUNK 256u
 #define TILE 16u
+_Static_assert(TILE * TILE <= TT_PACKET_MAX, "a tile is one packet");
 
 /* How the rays are cut into work items: runs of `chunk` consecutive rays,
  * or TILE x TILE tiles of an image `width` rays wide. An item is `rows`
@@ -24,7 +25,7 @@ typedef struct plan {
     long items;
 } plan;
 
-static void plan_make(plan *p, size_t n, const tt_batch_options *o, int threads)
+static void plan_make(plan *p, size_t n, const tt_batch_options *o, int threads, int packets)
 {
     p->n = n;
     p->width = o->image_width;
@@ -41,6 +42,8 @@ static void plan_make(plan *p, size_t n, const tt_batch_options *o, int threads)
         chunk = n / ((size_t)threads * 8u);
         chunk = chunk < 16u ? 16u : chunk > MAX_CHUNK ? MAX_CHUNK : chunk;
     }
+    /* a packet call takes at most TT_PACKET_MAX rays: one item */
+    if (packets && chunk > TT_PACKET_MAX) chunk = TT_PACKET_MAX;
     p->chunk = chunk;
     p->tiles_x = 0;
     p->items = (long)((n + chunk - 1) / chunk);
@@ -153,10 +156,50 @@ static tt_status check_call(const tt_accel *accel, const tt_batch_options *o, co
     return TT_OK;
 }
 
+/* The automatic choice, per work item: its rays are traced as a packet
+ * when their directions are coherent, i.e. the normalised directions fit in
+ * a box no wider than COHERENT_SPREAD on every axis (about a 30 degree
+ * cone: a camera tile, or the shadow rays of a tile towards one light);
+ * ambient-occlusion or diffuse rays are not, and go ray by ray, so
+ * incoherent batches lose only this pass over the directions. Packets of
+ * fewer than PACKET_MIN rays go ray by ray too. */
+#define COHERENT_SPREAD 0.5f
+#define PACKET_MIN 16u
+
+static int coherent(const tt_wray *w, uint32_t n)
+{
+    if (n < PACKET_MIN) return 0;
+    float lo[3] = {2.0f, 2.0f, 2.0f}, hi[3] = {-2.0f, -2.0f, -2.0f};
+    for (uint32_t i = 0; i < n; i++) {
+        const float *d = w[i].dir;
+        const float s = 1.0f / sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        for (int k = 0; k < 3; k++) {
+            const float x = d[k] * s;
+            lo[k] = x < lo[k] ? x : lo[k];
+            hi[k] = x > hi[k] ? x : hi[k];
+        }
+    }
+    return hi[0] - lo[0] <= COHERENT_SPREAD && hi[1] - lo[1] <= COHERENT_SPREAD &&
+           hi[2] - lo[2] <= COHERENT_SPREAD;
+}
+
+/* Whether this batch may use packets at all: the structure offers them,
+ * the option allows them, and no start hint is given (a hint steers one
+ * ray's traversal; packets start at the root). */
+static int packets_allowed(const tt_accel_vtable *vt, const tt_batch_options *o, int closest)
+{
+    if (o->packets == TT_PACKETS_OFF || o->start_hint != TT_INVALID_ID) return 0;
+    return closest ? vt->intersect_packet != NULL : vt->occluded_packet != NULL;
+}
+
 /* The loop both calls share: each thread takes the plan's items, checks
  * and traces their rays, and stores a hit (hits != NULL: closest hits) or
  * an occlusion byte. The choice is one predictable branch a ray, which
- * costs nothing beside a traversal and keeps one copy of the loop. */
+ * costs nothing beside a traversal and keeps one copy of the loop.
+ *
+ * With packets, an item's valid rays (at most TILE x TILE = MAX_CHUNK =
+ * TT_PACKET_MAX) are prepared first and handed to the structure's packet
+ * entry in one call (TT_PACKETS_ON), or when coherent (TT_PACKETS_AUTO). */
 static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, size_t n,
                            const tt_batch_options *options, const char *call,
                            const tt_hit_arrays *hits, uint8_t *occluded, ptrdiff_t occluded_stride,
@@ -167,15 +210,66 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
     const tt_batch_options *o = options ? options : &def;
     const tt_accel_vtable *vt = accel->vt;
     const int threads = threads_of(accel);
+    const int use_packets = packets_allowed(vt, o, hits != NULL);
     plan p;
-    plan_make(&p, n, o, threads);
+    plan_make(&p, n, o, threads, use_packets);
     size_t bad = SIZE_MAX, bad_count = 0;
 #pragma omp parallel num_threads(threads) reduction(min : bad) reduction(+ : bad_count)
     {
         tt_ray_stats local;
         memset(&local, 0, sizeof local);
+        tt_packet_stats plocal;
+        memset(&plocal, 0, sizeof plocal);
+        tt_wray pw[TT_PACKET_MAX];
+        tt_hit ph[TT_PACKET_MAX];
+        uint8_t pocc[TT_PACKET_MAX];
+        size_t pidx[TT_PACKET_MAX];
 #pragma omp for schedule(dynamic)
         for (long c = 0; c < p.items; c++) {
+            if (use_packets) {
+                uint32_t np = 0;
+                FOR_EACH_RAY(&p, c, i) {
+                    float org[3], dir[3], tmin, tmax;
+                    load_ray(rays, i, org, dir, &tmin, &tmax);
+                    tt_status rs = check_ray(org, dir, tmin, tmax);
+                    if (ray_status) ray_status[i] = rs;
+                    if (rs == TT_OK) {
+                        tt_wray_init(&pw[np], org, dir, tmin, tmax);
+                        pidx[np++] = i;
+                        continue;
+                    }
+                    if (i < bad) bad = i;
+                    bad_count++;
+                    if (hits) {
+                        tt_hit h;
+                        tt_hit_clear(&h);
+                        store_hit(hits, i, &h);
+                    } else {
+                        occluded[(ptrdiff_t)i * occluded_stride] = 0;
+                    }
+                }
+                if (o->packets == TT_PACKETS_ON || coherent(pw, np)) {
+                    if (hits && o->stats) vt->intersect_packet_stats(accel, pw, np, ph, &plocal);
+                    else if (hits) vt->intersect_packet(accel, pw, np, ph);
+                    else if (o->stats) vt->occluded_packet_stats(accel, pw, np, pocc, &plocal);
+                    else vt->occluded_packet(accel, pw, np, pocc);
+                } else {
+                    for (uint32_t j = 0; j < np; j++) {
+                        tt_trace_args args = {o->start_hint, TT_INVALID_ID,
+                                              o->stats ? &local : NULL};
+                        if (hits && o->stats) vt->intersect_stats(accel, &pw[j], &ph[j], &args, &local);
+                        else if (hits) vt->intersect(accel, &pw[j], &ph[j], &args);
+                        else if (o->stats)
+                            pocc[j] = (uint8_t)(vt->occluded_stats(accel, &pw[j], &args, &local) != 0);
+                        else pocc[j] = (uint8_t)(vt->occluded(accel, &pw[j], &args) != 0);
+                    }
+                }
+                for (uint32_t j = 0; j < np; j++) {
+                    if (hits) store_hit(hits, pidx[j], &ph[j]);
+                    else occluded[(ptrdiff_t)pidx[j] * occluded_stride] = pocc[j];
+                }
+                continue;
+            }
             FOR_EACH_RAY(&p, c, i) {
                 float org[3], dir[3], tmin, tmax;
                 tt_hit h;
@@ -201,6 +295,7 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
             }
         }
         if (o->stats) {
+            tt_ray_stats_add(&local, &plocal.rays);
 #pragma omp critical(tt_batch_stats)
             tt_ray_stats_add(o->stats, &local);
         }
