@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "accel/accel.h"
+#include "accel/packets.h"
 #include "accel/ray_check.h"
 
 #include <omp.h>
@@ -150,45 +151,22 @@ static tt_status check_call(const tt_accel *accel, const tt_batch_options *o, co
     if (o && o->chunk > (1u << 30))
         return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT, "%s: chunk %u is too large", call,
                         o->chunk);
+    if (o && o->packets > TT_PACKETS_ON)
+        return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT,
+                        "%s: packets %u is not TT_PACKETS_AUTO, _OFF or _ON", call, o->packets);
     if (o && o->image_width > (1u << 30))
         return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT, "%s: image_width %u is too large",
                         call, o->image_width);
     return TT_OK;
 }
 
-/* The automatic choice, per work item: its rays are traced as a packet
- * when their directions are coherent, i.e. the normalised directions fit in
- * a box no wider than COHERENT_SPREAD on every axis (about a 30 degree
- * cone: a camera tile, or the shadow rays of a tile towards one light);
- * ambient-occlusion or diffuse rays are not, and go ray by ray, so
- * incoherent batches lose only this pass over the directions. Packets of
- * fewer than PACKET_MIN rays go ray by ray too. */
-#define COHERENT_SPREAD 0.5f
-#define PACKET_MIN 16u
-
-static int coherent(const tt_wray *w, uint32_t n)
-{
-    if (n < PACKET_MIN) return 0;
-    float lo[3] = {2.0f, 2.0f, 2.0f}, hi[3] = {-2.0f, -2.0f, -2.0f};
-    for (uint32_t i = 0; i < n; i++) {
-        const float *d = w[i].dir;
-        const float s = 1.0f / sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        for (int k = 0; k < 3; k++) {
-            const float x = d[k] * s;
-            lo[k] = x < lo[k] ? x : lo[k];
-            hi[k] = x > hi[k] ? x : hi[k];
-        }
-    }
-    return hi[0] - lo[0] <= COHERENT_SPREAD && hi[1] - lo[1] <= COHERENT_SPREAD &&
-           hi[2] - lo[2] <= COHERENT_SPREAD;
-}
-
-/* Whether this batch may use packets at all: the structure offers them,
- * the option allows them, and no start hint is given (a hint steers one
- * ray's traversal; packets start at the root). */
+/* Whether this batch may use packets at all: the structure offers them and
+ * the option allows them. A start hint only speeds a single ray's walk (the
+ * answer is the closest hit either way, ties included: the smaller id
+ * wins), so packets, which start at the root, ignore it. */
 static int packets_allowed(const tt_accel_vtable *vt, const tt_batch_options *o, int closest)
 {
-    if (o->packets == TT_PACKETS_OFF || o->start_hint != TT_INVALID_ID) return 0;
+    if (o->packets == TT_PACKETS_OFF) return 0;
     return closest ? vt->intersect_packet != NULL : vt->occluded_packet != NULL;
 }
 
@@ -199,7 +177,9 @@ static int packets_allowed(const tt_accel_vtable *vt, const tt_batch_options *o,
  *
  * With packets, an item's valid rays (at most TILE x TILE = MAX_CHUNK =
  * TT_PACKET_MAX) are prepared first and handed to the structure's packet
- * entry in one call (TT_PACKETS_ON), or when coherent (TT_PACKETS_AUTO). */
+ * entry in one call (TT_PACKETS_ON), or when coherent (TT_PACKETS_AUTO:
+ * tt_packet_coherent, per item, so a batch mixing camera rays and
+ * ambient-occlusion rays gets each kind its way). */
 static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, size_t n,
                            const tt_batch_options *options, const char *call,
                            const tt_hit_arrays *hits, uint8_t *occluded, ptrdiff_t occluded_stride,
@@ -248,7 +228,7 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                         occluded[(ptrdiff_t)i * occluded_stride] = 0;
                     }
                 }
-                if (o->packets == TT_PACKETS_ON || coherent(pw, np)) {
+                if (o->packets == TT_PACKETS_ON || tt_packet_coherent(pw, np)) {
                     if (hits && o->stats) vt->intersect_packet_stats(accel, pw, np, ph, &plocal);
                     else if (hits) vt->intersect_packet(accel, pw, np, ph);
                     else if (o->stats) vt->occluded_packet_stats(accel, pw, np, pocc, &plocal);

@@ -204,6 +204,55 @@ static tt_ray *hostile_rays(const tt_scene *scene, const tt_camera *cam, size_t 
 }
 
 
+/* tt_render with packets off, on and auto (and the counting pass): the
+ * same hit buffer (triangle, t, shadow flag of every pixel), and the
+ * summary says whether packets were traced and counts them. */
+static void render_modes(tt_context *ctx, const tt_scene *scene, const tt_accel *a,
+                         const tt_camera *cam, const char *what)
+{
+    static const uint32_t modes[] = {TT_PACKETS_OFF, TT_PACKETS_ON, TT_PACKETS_AUTO};
+    uint8_t *first = NULL;
+    size_t first_size = 0;
+    for (int m = 0; m < 3; m++)
+        for (int stats = 0; stats < 2; stats++) {
+            tt_render_options ro;
+            tt_render_options_default(&ro);
+            ro.width = ro.height = 100; /* tiles cut by the border too */
+            ro.keep_hits = 1;
+            ro.stats = stats;
+            ro.packets = modes[m];
+            tt_render_result *res = NULL;
+            CHECK_OK(ctx, tt_render(ctx, scene, a, cam, &ro, &res));
+            if (!res) continue;
+            size_t size = 0;
+            const uint8_t *hits = tt_render_hits(res, &size);
+            const tt_render_summary *s = tt_render_get_summary(res);
+            const int has = a->vt->intersect_packet != NULL;
+            CHECK_MSG(s->packets == (has && modes[m] != TT_PACKETS_OFF), "%s: summary.packets %d",
+                      what, s->packets);
+            if (stats && s->packets)
+                CHECK_MSG(s->primary_packets.packets + s->primary_packets.fallback_rays > 0,
+                          "%s: no packet counts", what);
+            if (!first) {
+                first = malloc(size);
+                if (!first) exit(1);
+                memcpy(first, hits, size);
+                first_size = size;
+            } else {
+                CHECK_MSG(size == first_size && memcmp(first, hits, size) == 0,
+                          "%s: render packets mode %u stats %d: hit buffer differs", what,
+                          modes[m], stats);
+            }
+            tt_render_result_destroy(res);
+        }
+    free(first);
+    tt_render_options ro;
+    tt_render_options_default(&ro);
+    ro.packets = 7;
+    tt_render_result *res = NULL;
+    CHECK(tt_render(ctx, scene, a, cam, &ro, &res) == TT_ERR_INVALID_ARGUMENT);
+}
+
 static void scene_view(tt_context *ctx, const char *file, const char *view, int small)
 {
     g_small = small;
@@ -235,6 +284,9 @@ static void scene_view(tt_context *ctx, const char *file, const char *view, int 
             check_rays(a, shadow, n_shadow, 0, what);
             snprintf(what, sizeof what, "%s %s hostile", view, tt_isa_name((tt_isa)isa));
             check_rays(a, hostile, n_hostile, SIZE, what);
+            snprintf(what, sizeof what, "%s %s %s render", tt_accel_name(a), view,
+                     tt_isa_name((tt_isa)isa));
+            render_modes(ctx, scene, a, &cam, what);
             tt_accel_destroy(a);
         }
     }
@@ -245,9 +297,27 @@ static void scene_view(tt_context *ctx, const char *file, const char *view, int 
     tt_scene_destroy(scene);
 }
 
+/* A bad packets option is refused by name. */
+static void bad_option(tt_context *ctx)
+{
+    tt_scene *scene = tt_test_load_scene(ctx, "cornell_box.obj");
+    tt_accel *a = tt_test_build_default(ctx, scene, "rtree");
+    tt_ray r = {{0.0f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, INFINITY};
+    tt_hit h;
+    tt_batch_options bo;
+    tt_batch_options_default(&bo);
+    CHECK(bo.packets == TT_PACKETS_AUTO);
+    bo.packets = 3;
+    CHECK(tt_intersect(a, &r, 1, &h, NULL, &bo) == TT_ERR_INVALID_ARGUMENT);
+    CHECK(strstr(tt_context_last_error(ctx), "packets") != NULL);
+    tt_accel_destroy(a);
+    tt_scene_destroy(scene);
+}
+
 int main(void)
 {
     tt_context *ctx = tt_test_context();
+    bad_option(ctx);
     scene_view(ctx, "bun_zipper_res4.ply", "bunny_res4:main", 1);
     scene_view(ctx, "cornell_box.obj", "cornell:main", 1);
     scene_view(ctx, "bun_zipper.ply", "bunny:main", 0);
