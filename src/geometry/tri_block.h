@@ -35,6 +35,13 @@
 
 #define TT_TRI_BLOCK_W 8
 
+/* The per-ISA block kernels are always inlined into the traversals that
+ * include them: left to itself the compiler made them calls, and each call
+ * from a node loop spilled and reloaded a dozen vector registers and
+ * cleared the upper halves (vzeroupper) around a kernel of a few dozen
+ * instructions. */
+#define TT_TRI_KERNEL static inline __attribute__((always_inline))
+
 typedef struct tt_tri_block {
     float v[9][TT_TRI_BLOCK_W]; /* a.x a.y a.z b.x b.y b.z c.x c.y c.z, lanes */
     uint32_t prim[TT_TRI_BLOCK_W]; /* load-order id; TT_INVALID_ID: unused    */

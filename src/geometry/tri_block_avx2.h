@@ -104,7 +104,7 @@ static inline int tt_tri_in_range_avx2(const tt_tri_ray_avx2 *q, __m256 t, float
     return _mm256_movemask_ps(in);
 }
 
-static inline int tt_tri_blocks_intersect_avx2(const tt_wray *r, const tt_tri_block *b,
+TT_TRI_KERNEL int tt_tri_blocks_intersect_avx2(const tt_wray *r, const tt_tri_block *b,
                                                uint32_t count, tt_hit *hit)
 {
     tt_tri_ray_avx2 q;
@@ -146,7 +146,7 @@ static inline int tt_tri_blocks_intersect_avx2(const tt_wray *r, const tt_tri_bl
     return found;
 }
 
-static inline int tt_tri_blocks_occluded_avx2(const tt_wray *r, const tt_tri_block *b,
+TT_TRI_KERNEL int tt_tri_blocks_occluded_avx2(const tt_wray *r, const tt_tri_block *b,
                                               uint32_t count, float tmax)
 {
     tt_tri_ray_avx2 q;

@@ -17,13 +17,13 @@
 
 #include "geometry/tri_block_avx2.h"
 
-static inline int tt_tri_blocks_intersect_avx512(const tt_wray *r, const tt_tri_block *b,
+TT_TRI_KERNEL int tt_tri_blocks_intersect_avx512(const tt_wray *r, const tt_tri_block *b,
                                                  uint32_t count, tt_hit *hit)
 {
     return tt_tri_blocks_intersect_avx2(r, b, count, hit);
 }
 
-static inline int tt_tri_blocks_occluded_avx512(const tt_wray *r, const tt_tri_block *b,
+TT_TRI_KERNEL int tt_tri_blocks_occluded_avx512(const tt_wray *r, const tt_tri_block *b,
                                                 uint32_t count, float tmax)
 {
     return tt_tri_blocks_occluded_avx2(r, b, count, tmax);

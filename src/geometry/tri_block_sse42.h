@@ -94,7 +94,7 @@ static inline int tt_tri_in_range_sse42(const tt_tri_ray_sse42 *q, __m128 t, flo
         _mm_and_ps(_mm_cmpge_ps(t, q->tmin), _mm_cmplt_ps(t, _mm_set1_ps(tmax))));
 }
 
-static inline int tt_tri_blocks_intersect_sse42(const tt_wray *r, const tt_tri_block *b,
+TT_TRI_KERNEL int tt_tri_blocks_intersect_sse42(const tt_wray *r, const tt_tri_block *b,
                                                 uint32_t count, tt_hit *hit)
 {
     tt_tri_ray_sse42 q;
@@ -150,7 +150,7 @@ static inline int tt_tri_blocks_intersect_sse42(const tt_wray *r, const tt_tri_b
     return found;
 }
 
-static inline int tt_tri_blocks_occluded_sse42(const tt_wray *r, const tt_tri_block *b,
+TT_TRI_KERNEL int tt_tri_blocks_occluded_sse42(const tt_wray *r, const tt_tri_block *b,
                                                uint32_t count, float tmax)
 {
     tt_tri_ray_sse42 q;

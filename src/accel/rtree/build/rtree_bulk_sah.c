@@ -108,6 +108,41 @@ static uint64_t nearest_cut(uint64_t n, uint64_t c, int k, uint64_t lo, uint64_t
     return best;
 }
 
+/* The feasible cuts of a range (n triangles becoming k groups of lo..hi)
+ * as intervals, computed once per cut: the binned cut asks for the nearest
+ * feasible cut at every bin boundary of every axis (3 x 31 questions), and
+ * recomputing the k - 1 intervals for each was a third of the loader's
+ * time on small ranges. */
+typedef struct cut_set {
+    int count;
+    uint64_t a[TT_RT_MAX_M], b[TT_RT_MAX_M];
+} cut_set;
+
+static void cut_set_init(cut_set *cs, uint64_t n, int k, uint64_t lo, uint64_t hi)
+{
+    cs->count = 0;
+    for (int k1 = 1; k1 < k; k1++) {
+        uint64_t a, b;
+        if (!cut_interval(n, k, k1, lo, hi, &a, &b)) continue;
+        cs->a[cs->count] = a;
+        cs->b[cs->count++] = b;
+    }
+}
+
+/* nearest_cut(n, c, k, lo, hi) from the precomputed intervals (the same
+ * answer: the same intervals in the same order, the first nearest kept). */
+static uint64_t cut_set_nearest(const cut_set *cs, uint64_t c)
+{
+    uint64_t best = 0, dist = UINT64_MAX;
+    for (int i = 0; i < cs->count; i++) {
+        const uint64_t a = cs->a[i], b = cs->b[i];
+        uint64_t x = c < a ? a : c > b ? b : c;
+        uint64_t d = x > c ? x - c : c - x;
+        if (d < dist) dist = d, best = x;
+    }
+    return best;
+}
+
 /* ---------------------------------------------------------- ordering */
 
 static inline int before(const sah *s, int axis, uint32_t a, uint32_t b)
@@ -299,6 +334,8 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
     float best = TT_INF;
     int best_axis = -1, best_bin = 0;
     uint32_t best_c = 0;
+    cut_set cs;
+    cut_set_init(&cs, n, k, lo, hi);
     for (int axis = 0; axis < 3; axis++) {
         if (!(cb[axis + 3] > cb[axis])) continue;
         /* prefix: bins [0, j); suffix: bins [j, BINS) */
@@ -321,7 +358,7 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
         }
         for (int j = 1; j < BINS; j++) {
             uint32_t c = pre_c[j];
-            uint32_t f = (uint32_t)nearest_cut(n, c, k, lo, hi);
+            uint32_t f = (uint32_t)cut_set_nearest(&cs, c);
             float al = pre_a[j], ar = suf_a[j];
             if (f > c) { /* the left side reaches into later bins */
                 int e = j;

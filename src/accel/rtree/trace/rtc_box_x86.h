@@ -4,18 +4,35 @@
  * compiled with that ISA's flags (the wider kernels exist where __AVX2__ /
  * __AVX512F__ says the unit may use them).
  *
- * Each lane computes exactly what tt_rt_box_test_at (rtree_packed.h)
- * computes for one box, with the same operations in the same order (no FMA:
- * the units are compiled with -ffp-contract=off), so every ISA path visits
- * the same boxes: max(candidate, accumulator) and min(candidate,
+ * Units with FMA (AVX2, AVX-512) compute a slab distance in one fused
+ * operation, bound * rcp + c, with c = -(org * rcp) moved outwards by
+ * 2^-22 |org * rcp| per ray (near planes down, far planes up). That
+ * padding covers the two roundings of c, so the fused near distance is at
+ * most the exact (bound - org) * rcp plus one rounding of itself, and the
+ * far one at least it minus one: no worse than the two-step form, which
+ * rounds twice, and both are then widened relatively as below. A zero
+ * direction component (rcp +-inf) gives either the exact +-inf or NaN,
+ * which the accumulation ignores (no culling on that axis): conservative.
+ * These units may thus visit a box or two more than the others, never
+ * fewer around a hit; hits are the triangle test's and stay bit-identical.
+ *
+ * Without FMA (SSE 4.2) each lane computes exactly what tt_rt_box_test_at
+ * (rtree_packed.h) computes for one box, with the same operations in the
+ * same order (no contraction: the units are compiled with
+ * -ffp-contract=off): max(candidate, accumulator) and min(candidate,
  * accumulator) return the accumulator when either operand is NaN, exactly
  * tt_slab_near / tt_slab_far; the ordered compares are false on NaN like
- * the scalar <= and <. A lane's result is its entry distance on a hit, +inf
- * on a miss, and the returned mask has bit i set for a hit of child i. */
+ * the scalar <= and <. The widenings tf + |tf| 2^-22 and tn - |tn| 2^-16
+ * are single multiplications, tf (1 + 2^-22) and tn (1 - 2^-16): the same
+ * real value rounded once, so the same float (tn >= tmin >= 0 always; a
+ * negative tf is a miss either way). A lane's result is its entry distance
+ * on a hit, +inf on a miss, and the returned mask has bit i set for a hit
+ * of child i. */
 #ifndef TT_ACCEL_RTREE_RTC_BOX_X86_H
 #define TT_ACCEL_RTREE_RTC_BOX_X86_H
 
 #include <immintrin.h>
+#include <math.h>
 
 #include "accel/rtree/layout/rtc_layout.h"
 
@@ -23,9 +40,9 @@
  * unit has; narrower kernels take its low part). */
 typedef struct rtc_lanes {
 #if defined(__AVX512F__)
-    __m512 ox, oy, oz, ix, iy, iz, tmin;
+    __m512 ox, oy, oz, ix, iy, iz, tmin, cn[3], cf[3];
 #elif defined(__AVX2__)
-    __m256 ox, oy, oz, ix, iy, iz, tmin;
+    __m256 ox, oy, oz, ix, iy, iz, tmin, cn[3], cf[3];
 #else
     __m128 ox, oy, oz, ix, iy, iz, tmin;
 #endif
@@ -47,6 +64,14 @@ static inline void rtc_lanes_init(rtc_lanes *s, const tt_wray *r)
     s->iy = RTC_SET1(r->rcp[1]);
     s->iz = RTC_SET1(r->rcp[2]);
     s->tmin = RTC_SET1(r->tmin);
+#if defined(__FMA__)
+    for (int k = 0; k < 3; k++) {
+        const float x = r->org[k] * r->rcp[k];
+        const float pad = fabsf(x) * (1.0f / 4194304.0f);
+        s->cn[k] = RTC_SET1(-x - pad);
+        s->cf[k] = RTC_SET1(-x + pad);
+    }
+#endif
 #undef RTC_SET1
 }
 
@@ -75,11 +100,8 @@ static inline uint32_t rtc_box4(const rtc_lanes *s, const tt_rt_planes *p, const
     const __m128 inf = _mm_set1_ps(TT_INF);
     const __m128 tn = _mm_max_ps(tnz, _mm_max_ps(tny, _mm_max_ps(tnx, RTC_LO128(s->tmin))));
     const __m128 tf0 = _mm_min_ps(tfz, _mm_min_ps(tfy, _mm_min_ps(tfx, inf)));
-    const __m128 absmask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-    const __m128 tf =
-        _mm_add_ps(tf0, _mm_mul_ps(_mm_and_ps(tf0, absmask), _mm_set1_ps(1.0f / 4194304.0f)));
-    const __m128 entry =
-        _mm_sub_ps(tn, _mm_mul_ps(_mm_and_ps(tn, absmask), _mm_set1_ps(1.0f / 65536.0f)));
+    const __m128 tf = _mm_mul_ps(tf0, _mm_set1_ps(1.0f + 1.0f / 4194304.0f));
+    const __m128 entry = _mm_mul_ps(tn, _mm_set1_ps(1.0f - 1.0f / 65536.0f));
     const __m128 hit = _mm_and_ps(_mm_cmple_ps(tn, tf), _mm_cmplt_ps(entry, _mm_set1_ps(tmax)));
     _mm_storeu_ps(out, _mm_or_ps(_mm_and_ps(hit, entry), _mm_andnot_ps(hit, inf)));
     return (uint32_t)_mm_movemask_ps(hit);
@@ -92,21 +114,19 @@ static inline uint32_t rtc_box8(const rtc_lanes *s, const tt_rt_planes *p, const
 {
     const __m256 ox = RTC_LO256(s->ox), oy = RTC_LO256(s->oy), oz = RTC_LO256(s->oz);
     const __m256 ix = RTC_LO256(s->ix), iy = RTC_LO256(s->iy), iz = RTC_LO256(s->iz);
-    const __m256 tnx = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->n[0]), ox), ix);
-    const __m256 tny = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->n[1]), oy), iy);
-    const __m256 tnz = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->n[2]), oz), iz);
-    const __m256 tfx = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->f[0]), ox), ix);
-    const __m256 tfy = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->f[1]), oy), iy);
-    const __m256 tfz = _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(g + p->f[2]), oz), iz);
+    (void)ox, (void)oy, (void)oz;
+    const __m256 tnx = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->n[0]), ix, RTC_LO256(s->cn[0]));
+    const __m256 tny = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->n[1]), iy, RTC_LO256(s->cn[1]));
+    const __m256 tnz = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->n[2]), iz, RTC_LO256(s->cn[2]));
+    const __m256 tfx = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->f[0]), ix, RTC_LO256(s->cf[0]));
+    const __m256 tfy = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->f[1]), iy, RTC_LO256(s->cf[1]));
+    const __m256 tfz = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->f[2]), iz, RTC_LO256(s->cf[2]));
     const __m256 inf = _mm256_set1_ps(TT_INF);
     const __m256 tn =
         _mm256_max_ps(tnz, _mm256_max_ps(tny, _mm256_max_ps(tnx, RTC_LO256(s->tmin))));
     const __m256 tf0 = _mm256_min_ps(tfz, _mm256_min_ps(tfy, _mm256_min_ps(tfx, inf)));
-    const __m256 absmask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
-    const __m256 tf = _mm256_add_ps(
-        tf0, _mm256_mul_ps(_mm256_and_ps(tf0, absmask), _mm256_set1_ps(1.0f / 4194304.0f)));
-    const __m256 entry = _mm256_sub_ps(
-        tn, _mm256_mul_ps(_mm256_and_ps(tn, absmask), _mm256_set1_ps(1.0f / 65536.0f)));
+    const __m256 tf = _mm256_mul_ps(tf0, _mm256_set1_ps(1.0f + 1.0f / 4194304.0f));
+    const __m256 entry = _mm256_mul_ps(tn, _mm256_set1_ps(1.0f - 1.0f / 65536.0f));
     const __m256 hit = _mm256_and_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ),
                                      _mm256_cmp_ps(entry, _mm256_set1_ps(tmax), _CMP_LT_OQ));
     _mm256_storeu_ps(out, _mm256_blendv_ps(inf, entry, hit));
@@ -119,19 +139,17 @@ static inline uint32_t rtc_box8(const rtc_lanes *s, const tt_rt_planes *p, const
 static inline uint32_t rtc_box16(const rtc_lanes *s, const tt_rt_planes *p, const float *g,
                                  float tmax, float *out)
 {
-    const __m512 tnx = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->n[0]), s->ox), s->ix);
-    const __m512 tny = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->n[1]), s->oy), s->iy);
-    const __m512 tnz = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->n[2]), s->oz), s->iz);
-    const __m512 tfx = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->f[0]), s->ox), s->ix);
-    const __m512 tfy = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->f[1]), s->oy), s->iy);
-    const __m512 tfz = _mm512_mul_ps(_mm512_sub_ps(_mm512_loadu_ps(g + p->f[2]), s->oz), s->iz);
+    const __m512 tnx = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->n[0]), s->ix, s->cn[0]);
+    const __m512 tny = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->n[1]), s->iy, s->cn[1]);
+    const __m512 tnz = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->n[2]), s->iz, s->cn[2]);
+    const __m512 tfx = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->f[0]), s->ix, s->cf[0]);
+    const __m512 tfy = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->f[1]), s->iy, s->cf[1]);
+    const __m512 tfz = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->f[2]), s->iz, s->cf[2]);
     const __m512 inf = _mm512_set1_ps(TT_INF);
     const __m512 tn = _mm512_max_ps(tnz, _mm512_max_ps(tny, _mm512_max_ps(tnx, s->tmin)));
     const __m512 tf0 = _mm512_min_ps(tfz, _mm512_min_ps(tfy, _mm512_min_ps(tfx, inf)));
-    const __m512 tf =
-        _mm512_add_ps(tf0, _mm512_mul_ps(_mm512_abs_ps(tf0), _mm512_set1_ps(1.0f / 4194304.0f)));
-    const __m512 entry =
-        _mm512_sub_ps(tn, _mm512_mul_ps(_mm512_abs_ps(tn), _mm512_set1_ps(1.0f / 65536.0f)));
+    const __m512 tf = _mm512_mul_ps(tf0, _mm512_set1_ps(1.0f + 1.0f / 4194304.0f));
+    const __m512 entry = _mm512_mul_ps(tn, _mm512_set1_ps(1.0f - 1.0f / 65536.0f));
     const __mmask16 hit = _mm512_cmp_ps_mask(tn, tf, _CMP_LE_OQ) &
                           _mm512_cmp_ps_mask(entry, _mm512_set1_ps(tmax), _CMP_LT_OQ);
     _mm512_storeu_ps(out, _mm512_mask_blend_ps(hit, inf, entry));
