@@ -208,9 +208,9 @@ TT_RT_INLINE uint32_t TT_VARIANT(RTC_FN(rtc_pk_interval))(const pk_rays *P, cons
         for (int k = 0; k < 3; k++) {
             const int neg = P->nrow[k] != (uint32_t)k;
             const pk_v rlo = PK_SET1(P->rmin[k]), rhi = PK_SET1(P->rmax[k]);
-            const pk_v dn = PK_SUB(PK_LOADU(rec + P->nrow[k] * S + i),
+            const pk_v dn = PK_SUB(PK_LOADU(tt_rtc_boxes(rec) + P->nrow[k] * S + i),
                                    PK_SET1(neg ? P->omin[k] : P->omax[k]));
-            const pk_v df = PK_SUB(PK_LOADU(rec + P->frow[k] * S + i),
+            const pk_v df = PK_SUB(PK_LOADU(tt_rtc_boxes(rec) + P->frow[k] * S + i),
                                    PK_SET1(neg ? P->omax[k] : P->omin[k]));
             tn = PK_MAX(PK_MIN(PK_MUL(dn, rlo), PK_MUL(dn, rhi)), tn);
             tf = PK_MIN(PK_MAX(PK_MUL(df, rlo), PK_MUL(df, rhi)), tf);
@@ -240,12 +240,21 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
     (void)stats;
     for (;;) {
         const float *rec = tt_rtc_node(t, cur.node);
+        const float *box = tt_rtc_boxes(rec); /* SoA rows, stride S */
         const uint32_t *child = tt_rtc_child(t, rec);
-        const uint32_t count = tt_rtc_count(t, rec);
-        if (any)
-            for (uint32_t g = cur.g0; g <= cur.g1; g++) cur.m[g] &= ~P->done[g];
+        if (any) {
+            /* rays answered since this entry was pushed drop out; with
+             * none left the entry is skipped, with none in the packet the
+             * walk ends */
+            uint32_t live = 0, left = 0;
+            for (uint32_t g = cur.g0; g <= cur.g1; g++) live |= cur.m[g] &= ~P->done[g];
+            for (uint32_t g = 0; g < P->groups; g++) left |= P->valid[g] & ~P->done[g];
+            if (!left) return;
+            if (!live) goto pop;
+        }
 #if TT_STATS
         {
+            const uint32_t count = tt_rtc_count(t, rec);
             uint64_t act = 0;
             for (uint32_t g = cur.g0; g <= cur.g1; g++) act += pk_popcount(cur.m[g]);
             TT_COUNT(stats, node_visits, 1);
@@ -255,7 +264,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
             TT_COUNT(stats, rays.boxes, act * count);
         }
 #endif
-        uint32_t cand = count >= 32 ? ~0u : (1u << count) - 1u;
+        uint32_t cand = tt_rtc_used(t, rec);
         if (P->ia && S % PK_L == 0) cand &= TT_VARIANT(RTC_FN(rtc_pk_interval))(P, rec, S);
         /* the hit children, their rays and nearest entry */
         uint32_t nh = 0, ord[TT_RT_MAX_M];
@@ -264,10 +273,10 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
         while (cand) {
             const uint32_t c = (uint32_t)__builtin_ctz(cand);
             cand &= cand - 1;
-            const pk_v bnx = PK_SET1(rec[P->nrow[0] * S + c]), bny = PK_SET1(rec[P->nrow[1] * S + c]),
-                       bnz = PK_SET1(rec[P->nrow[2] * S + c]);
-            const pk_v bfx = PK_SET1(rec[P->frow[0] * S + c]), bfy = PK_SET1(rec[P->frow[1] * S + c]),
-                       bfz = PK_SET1(rec[P->frow[2] * S + c]);
+            const pk_v bnx = PK_SET1(box[P->nrow[0] * S + c]), bny = PK_SET1(box[P->nrow[1] * S + c]),
+                       bnz = PK_SET1(box[P->nrow[2] * S + c]);
+            const pk_v bfx = PK_SET1(box[P->frow[0] * S + c]), bfy = PK_SET1(box[P->frow[1] * S + c]),
+                       bfz = PK_SET1(box[P->frow[2] * S + c]);
             pk_v vmin = inf;
             uint32_t g0 = PK_G, g1 = 0;
             uint32_t *mk = cm[nh];
@@ -317,7 +326,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                 /* Leaves share blocks (rtc_layout.h): each block of this
                  * node is tested once, for every ray of every hit leaf on
                  * it, in the order the nearest leaves first reach it. */
-                const uint32_t base = child[0] >> 7;
+                const uint32_t base = tt_rtc_leaf_block(child[0]);
                 uint32_t blist[64], nb_list = 0; /* offsets < 64, as in the single-ray kernel */
                 uint32_t bm[64][PK_G];
                 uint32_t bg0[64], bg1[64];
@@ -328,7 +337,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                     const uint32_t ref = child[c];
                     uint32_t nb;
                     (void)tt_rtc_leaf_blocks(t, ref, &nb);
-                    const uint32_t off = (ref >> 7) - base;
+                    const uint32_t off = tt_rtc_leaf_block(ref) - base;
 #if TT_STATS
                     {
                         uint64_t act = 0;
@@ -386,6 +395,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                 continue;
             }
         }
+    pop:
         if (!sp) return;
         cur = stack[--sp];
     }
