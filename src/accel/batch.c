@@ -206,7 +206,27 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
         size_t pidx[TT_PACKET_MAX];
 #pragma omp for schedule(dynamic)
         for (long c = 0; c < p.items; c++) {
-            if (use_packets) {
+            int packet = use_packets;
+            if (packet && o->packets == TT_PACKETS_AUTO) {
+                /* decide from the directions alone, before preparing any
+                 * ray: an incoherent item then takes the plain loop below
+                 * with nothing staged (its rays' tt_wray's would take 20
+                 * KB of the cache the traversal wants) */
+                tt_dir_box db;
+                tt_dir_box_init(&db);
+                size_t seen = 0;
+                FOR_EACH_RAY(&p, c, i) {
+                    /* about 32 rays of the item suffice to judge it, and
+                     * keep the test's cost to incoherent batches small */
+                    const size_t step = (len_ * rows_ + 31u) / 32u;
+                    if (seen++ % step) continue;
+                    float org[3], dir[3], tmin, tmax;
+                    load_ray(rays, i, org, dir, &tmin, &tmax);
+                    tt_dir_box_add(&db, dir);
+                }
+                packet = seen >= TT_PACKET_MIN && tt_dir_box_coherent(&db);
+            }
+            if (packet) {
                 uint32_t np = 0;
                 FOR_EACH_RAY(&p, c, i) {
                     float org[3], dir[3], tmin, tmax;
@@ -228,7 +248,7 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                         occluded[(ptrdiff_t)i * occluded_stride] = 0;
                     }
                 }
-                if (o->packets == TT_PACKETS_ON || tt_packet_coherent(pw, np)) {
+                if (np >= TT_PACKET_MIN || o->packets == TT_PACKETS_ON) {
                     if (hits && o->stats) vt->intersect_packet_stats(accel, pw, np, ph, &plocal);
                     else if (hits) vt->intersect_packet(accel, pw, np, ph);
                     else if (o->stats) vt->occluded_packet_stats(accel, pw, np, pocc, &plocal);
