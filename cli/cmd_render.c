@@ -11,6 +11,8 @@
 
 static const char *const heat_metrics[] = {"nodes", "interior", "leaves", "triangles", "boxes"};
 static const char *const devices[] = {"cpu", "gpu"};
+/* indexed by TT_PACKETS_AUTO, _OFF, _ON */
+static const char *const packet_modes[] = {"auto", "off", "on"};
 
 typedef struct render_args {
     const char *scene, *view, *views;
@@ -21,6 +23,7 @@ typedef struct render_args {
     const char *png, *hits, *heatmap;
     int heat_metric, heat_metric_given;
     int device; /* index into devices[] = tt_device */
+    int packets; /* index into packet_modes[] = TT_PACKETS_* */
     cli_accel_args accel;
 } render_args;
 
@@ -48,6 +51,10 @@ void cmd_render_help(FILE *out)
             "  --stats                  one more pass counting nodes, leaves, boxes and\n"
             "                           triangles per ray (the timed passes never count)\n"
             "  --no-shadows             primary rays only\n"
+            "  --packets auto|on|off    trace each tile's rays as one packet where the\n"
+            "                           structure has packet traversal: auto (default) for\n"
+            "                           primary rays and coherent shadow rays, on always,\n"
+            "                           off never (ray by ray); the results are the same\n"
             "  --device cpu|gpu         where to trace (default cpu); the GPU (CUDA) traces\n"
             "                           rtree (auto, stackless, ordered) and kdtree (sltr,\n"
             "                           htr), reports upload_s and download_s apart and\n"
@@ -125,6 +132,10 @@ static int parse_one(cli_args *a, render_args *r)
     } else if (cli_is(a, "--repeat")) {
         return (v = cli_value(a, "--repeat")) ? cli_parse_int(a->cmd, "--repeat", v, 1, 100000, &r->repeat)
                                               : CLI_USAGE;
+    } else if (cli_is(a, "--packets")) {
+        return (v = cli_value(a, "--packets"))
+                   ? cli_parse_choice(a->cmd, "--packets", v, packet_modes, 3, &r->packets)
+                   : CLI_USAGE;
     } else if (cli_is(a, "--device")) {
         return (v = cli_value(a, "--device"))
                    ? cli_parse_choice(a->cmd, "--device", v, devices, 2, &r->device)
@@ -222,6 +233,21 @@ static int write_outputs(tt_context *ctx, const render_args *r, const tt_render_
 
 static double per_ray(uint64_t count, uint64_t rays) { return rays ? (double)count / (double)rays : 0.0; }
 
+/* Why packets win or lose: how many, nodes a packet visits, rays active
+ * at a visited node, rays finished one by one. */
+static void emit_packets(cli_emit *e, const char *prefix, const tt_packet_counts *c)
+{
+    char key[64];
+    snprintf(key, sizeof key, "%s_packets", prefix);
+    emit_u64(e, key, c->packets);
+    snprintf(key, sizeof key, "%s_nodes_per_packet", prefix);
+    emit_num(e, key, per_ray(c->node_visits, c->packets));
+    snprintf(key, sizeof key, "%s_active_rays_per_node", prefix);
+    emit_num(e, key, per_ray(c->active_lanes, c->node_visits));
+    snprintf(key, sizeof key, "%s_fallback_rays", prefix);
+    emit_u64(e, key, c->fallback_rays);
+}
+
 static void emit_stats(cli_emit *e, const char *prefix, const tt_ray_stats *st)
 {
     char key[64];
@@ -268,6 +294,7 @@ static void emit_results(const render_args *r, const char *scene_path, const tt_
     emit_u64(&e, "width", s->width);
     emit_u64(&e, "height", s->height);
     emit_int(&e, "repeat", r->repeat);
+    emit_str(&e, "packets", s->packets ? packet_modes[r->packets] : "off");
     emit_bool(&e, "shadows", !r->no_shadows);
     emit_u64(&e, "primary_rays", s->primary_rays);
     emit_u64(&e, "primary_hits", s->primary_hits);
@@ -291,6 +318,10 @@ static void emit_results(const render_args *r, const char *scene_path, const tt_
         emit_stats(&e, "primary", &s->primary_stats);
         emit_stats(&e, "shadow", &s->shadow_stats);
         emit_stats(&e, "all", &all);
+        if (s->packets) {
+            emit_packets(&e, "primary", &s->primary_packets);
+            emit_packets(&e, "shadow", &s->shadow_packets);
+        }
     }
     if (r->png) emit_str(&e, "png", r->png);
     if (r->hits) emit_str(&e, "hits", r->hits);
@@ -351,6 +382,7 @@ int cmd_render(int argc, char **argv)
         ro.keep_image = r.png != NULL;
         ro.keep_pixel_stats = r.heatmap != NULL;
         ro.device = (tt_device)r.device;
+        ro.packets = (uint32_t)r.packets;
         if (tt_render(ctx, scene, accel, &cam, &ro, &res) != TT_OK)
             st = cli_runtime_error("render", ctx);
     }

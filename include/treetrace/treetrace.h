@@ -494,11 +494,20 @@ typedef struct tt_render_options {
     int keep_image;         /* keep the shaded RGB image                      */
     int keep_pixel_stats;   /* keep per-pixel counts for heatmaps             */
     tt_device device;       /* default TT_DEVICE_CPU                          */
+    /* TT_PACKETS_AUTO (default): a structure with packet traversal traces
+     * each tile's primary rays, and its shadow rays when their directions
+     * are coherent, as one packet; TT_PACKETS_OFF ray by ray; TT_PACKETS_ON
+     * packets always. The image and hit buffer do not depend on it. */
+    uint32_t packets;
 } tt_render_options;
 
 void tt_render_options_default(tt_render_options *options);
 
 typedef struct tt_render_result tt_render_result;
+
+typedef struct tt_packet_counts {
+    uint64_t packets, node_visits, active_lanes, fallback_rays;
+} tt_packet_counts;
 
 typedef struct tt_render_summary {
     uint32_t width, height;
@@ -517,6 +526,14 @@ typedef struct tt_render_summary {
     double upload_s;        /* GPU: structure and triangles to the device      */
     double download_s;      /* GPU: the per-pixel results back to the host     */
     char device_name[64];   /* GPU: the device's name; "" on the CPU           */
+    /* Packets (tt_render_options.packets): whether the passes traced any,
+     * and from the counting pass (has_stats) per kind of ray: packets
+     * traced, nodes they visited (once a packet), rays active at those
+     * visits (active / nodes: the packet's mean width at a node), and rays
+     * finished one by one inside packet calls (an octant of fewer than a
+     * few rays, or an ISA without a packet kernel). */
+    int packets;
+    tt_packet_counts primary_packets, shadow_packets;
 } tt_render_summary;
 
 tt_status tt_render(tt_context *ctx, const tt_scene *scene, const tt_accel *accel,

@@ -32,9 +32,10 @@ def test_build_options_layout():
 def test_render_and_batch_options_layout():
     o = filled_by(_lib.lib.tt_render_options_default, _lib.RenderOptions)
     assert (o.width, o.height, o.shadows, o.repeat, o.stats, o.keep_hits, o.keep_image,
-            o.keep_pixel_stats, o.device) == (1024, 1024, 1, 1, 0, 0, 0, 0, 0)
+            o.keep_pixel_stats, o.device, o.packets) == (1024, 1024, 1, 1, 0, 0, 0, 0, 0, 0)
     b = filled_by(_lib.lib.tt_batch_options_default, _lib.BatchOptions)
     assert b.start_hint == tt.INVALID_ID and not b.stats and b.chunk == 0
+    assert b.image_width == 0 and b.packets == _lib.PACKETS["auto"] == 0
     c = filled_by(_lib.lib.tt_context_options_default, _lib.ContextOptions)
     assert c.threads == 0 and not c.on_error
 

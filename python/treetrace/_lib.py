@@ -71,7 +71,11 @@ class TraceArgs(ctypes.Structure):
 
 class BatchOptions(ctypes.Structure):
     _fields_ = [("start_hint", ctypes.c_uint32), ("stats", ctypes.POINTER(RayStats)),
-                ("chunk", ctypes.c_uint32), ("image_width", ctypes.c_uint32)]
+                ("chunk", ctypes.c_uint32), ("image_width", ctypes.c_uint32),
+                ("packets", ctypes.c_uint32)]
+
+# tt_batch_options.packets / tt_render_options.packets
+PACKETS = {"auto": 0, "off": 1, "on": 2}
 
 
 class RayArrays(ctypes.Structure):
@@ -98,7 +102,13 @@ class RenderOptions(ctypes.Structure):
     _fields_ = [("width", ctypes.c_uint32), ("height", ctypes.c_uint32),
                 ("shadows", ctypes.c_int), ("repeat", ctypes.c_int), ("stats", ctypes.c_int),
                 ("keep_hits", ctypes.c_int), ("keep_image", ctypes.c_int),
-                ("keep_pixel_stats", ctypes.c_int), ("device", ctypes.c_int)]
+                ("keep_pixel_stats", ctypes.c_int), ("device", ctypes.c_int),
+                ("packets", ctypes.c_uint32)]
+
+
+class PacketCounts(ctypes.Structure):
+    _fields_ = [(name, ctypes.c_uint64)
+                for name in ("packets", "node_visits", "active_lanes", "fallback_rays")]
 
 
 class RenderSummary(ctypes.Structure):
@@ -112,7 +122,9 @@ class RenderSummary(ctypes.Structure):
                 ("primary_stats", RayStats), ("shadow_stats", RayStats),
                 ("threads", ctypes.c_int), ("device", ctypes.c_int),
                 ("upload_s", ctypes.c_double), ("download_s", ctypes.c_double),
-                ("device_name", ctypes.c_char * 64)]
+                ("device_name", ctypes.c_char * 64),
+                ("packets", ctypes.c_int),
+                ("primary_packets", PacketCounts), ("shadow_packets", PacketCounts)]
 
 
 STAT_FN = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_char_p, ctypes.c_double)

@@ -409,7 +409,10 @@ class Accel(RayCasting):
         p = (ctypes.c_float * 3)(*[float(x) for x in point])
         return int(lib.tt_accel_locate(self._h, p))
 
-    def _batch(self, origins, directions, tmin, tmax, start_hint, stats, image_width):
+    def _batch(self, origins, directions, tmin, tmax, start_hint, stats, image_width,
+               packets="auto"):
+        if packets not in _lib.PACKETS:
+            raise ValueError("packets: 'auto', 'on' or 'off'")
         n = ray_count(origins, directions)
         keep = []
         ra = _lib.RayArrays()
@@ -431,6 +434,7 @@ class Accel(RayCasting):
             bo.start_hint = int(start_hint)
         if image_width:
             bo.image_width = int(image_width)
+        bo.packets = _lib.PACKETS[packets]
         counts = None
         if stats:
             counts = _lib.RayStats()
@@ -443,7 +447,7 @@ class Accel(RayCasting):
 
     def intersect(self, origins, directions, tmin=None, tmax=None,
                   start_hint: Optional[int] = None, stats: bool = False, errors: str = "raise",
-                  image_width: int = 0, normals: bool = False) -> Hits:
+                  image_width: int = 0, normals: bool = False, packets: str = "auto") -> Hits:
         """Closest hits of N rays on [tmin, tmax): origins and directions
         (N, 3) arrays, or one (3,) vector for every ray; tmin/tmax None
         (0 and +inf), a number or (N,) arrays. float32 arrays are used in
@@ -455,6 +459,9 @@ class Accel(RayCasting):
         their common origin). image_width: the rays are the rows of an
         image that wide (as Camera.rays gives them): threads trace 16 x 16
         tiles, as the renderer does, which is faster for coherent rays.
+        packets: "auto" (default) traces coherent groups of rays (a tile, a
+        run of up to 256) together as packets where the structure has them,
+        "on" always, "off" never; the results are the same bit for bit.
         normals=True: also Hits.normal, the hit triangles' unit geometric
         normals (Scene.normals; zeros on a miss).
 
@@ -467,7 +474,7 @@ class Accel(RayCasting):
         if errors not in ("raise", "ignore"):
             raise ValueError("errors: 'raise' or 'ignore'")
         n, ra, bo, counts, keep = self._batch(origins, directions, tmin, tmax, start_hint, stats,
-                                                 image_width)
+                                                 image_width, packets)
         t = np.empty(n, np.float32)
         u = np.empty(n, np.float32)
         v = np.empty(n, np.float32)
@@ -485,7 +492,7 @@ class Accel(RayCasting):
 
     def occluded(self, origins, directions, tmin=None, tmax=None,
                  start_hint: Optional[int] = None, stats: bool = False, errors: str = "raise",
-                 return_status: bool = False, image_width: int = 0):
+                 return_status: bool = False, image_width: int = 0, packets: str = "auto"):
         """Whether anything lies on [tmin, tmax) of each ray: a bool (N,)
         array (and the status array with return_status=True; the counts too
         with stats=True). Arguments as for intersect.
@@ -498,7 +505,7 @@ class Accel(RayCasting):
         if errors not in ("raise", "ignore"):
             raise ValueError("errors: 'raise' or 'ignore'")
         n, ra, bo, counts, keep = self._batch(origins, directions, tmin, tmax, start_hint, stats,
-                                                 image_width)
+                                                 image_width, packets)
         occ = np.empty(n, np.bool_)
         status = np.empty(n, np.intc)
         st = lib.tt_occluded_arrays(self._h, ctypes.byref(ra), n, address(occ), 1,

@@ -9,12 +9,14 @@
 #include <string.h>
 
 #include "accel/accel.h"
+#include "accel/packets.h"
 #include "accel/ray_check.h"
 
 #include <omp.h>
 
 #define MAX_CHUNK 256u
 #define TILE 16u
+_Static_assert(TILE * TILE <= TT_PACKET_MAX, "a tile is one packet");
 
 /* How the rays are cut into work items: runs of `chunk` consecutive rays,
  * or TILE x TILE tiles of an image `width` rays wide. An item is `rows`
@@ -24,7 +26,7 @@ typedef struct plan {
     long items;
 } plan;
 
-static void plan_make(plan *p, size_t n, const tt_batch_options *o, int threads)
+static void plan_make(plan *p, size_t n, const tt_batch_options *o, int threads, int packets)
 {
     p->n = n;
     p->width = o->image_width;
@@ -41,6 +43,8 @@ static void plan_make(plan *p, size_t n, const tt_batch_options *o, int threads)
         chunk = n / ((size_t)threads * 8u);
         chunk = chunk < 16u ? 16u : chunk > MAX_CHUNK ? MAX_CHUNK : chunk;
     }
+    /* a packet call takes at most TT_PACKET_MAX rays: one item */
+    if (packets && chunk > TT_PACKET_MAX) chunk = TT_PACKET_MAX;
     p->chunk = chunk;
     p->tiles_x = 0;
     p->items = (long)((n + chunk - 1) / chunk);
@@ -147,16 +151,35 @@ static tt_status check_call(const tt_accel *accel, const tt_batch_options *o, co
     if (o && o->chunk > (1u << 30))
         return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT, "%s: chunk %u is too large", call,
                         o->chunk);
+    if (o && o->packets > TT_PACKETS_ON)
+        return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT,
+                        "%s: packets %u is not TT_PACKETS_AUTO, _OFF or _ON", call, o->packets);
     if (o && o->image_width > (1u << 30))
         return tt_error(accel->ctx, TT_ERR_INVALID_ARGUMENT, "%s: image_width %u is too large",
                         call, o->image_width);
     return TT_OK;
 }
 
+/* Whether this batch may use packets at all: the structure offers them and
+ * the option allows them. A start hint only speeds a single ray's walk (the
+ * answer is the closest hit either way, ties included: the smaller id
+ * wins), so packets, which start at the root, ignore it. */
+static int packets_allowed(const tt_accel_vtable *vt, const tt_batch_options *o, int closest)
+{
+    if (o->packets == TT_PACKETS_OFF) return 0;
+    return closest ? vt->intersect_packet != NULL : vt->occluded_packet != NULL;
+}
+
 /* The loop both calls share: each thread takes the plan's items, checks
  * and traces their rays, and stores a hit (hits != NULL: closest hits) or
  * an occlusion byte. The choice is one predictable branch a ray, which
- * costs nothing beside a traversal and keeps one copy of the loop. */
+ * costs nothing beside a traversal and keeps one copy of the loop.
+ *
+ * With packets, an item's valid rays (at most TILE x TILE = MAX_CHUNK =
+ * TT_PACKET_MAX) are prepared first and handed to the structure's packet
+ * entry in one call (TT_PACKETS_ON), or when coherent (TT_PACKETS_AUTO:
+ * tt_packet_coherent, per item, so a batch mixing camera rays and
+ * ambient-occlusion rays gets each kind its way). */
 static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, size_t n,
                            const tt_batch_options *options, const char *call,
                            const tt_hit_arrays *hits, uint8_t *occluded, ptrdiff_t occluded_stride,
@@ -167,15 +190,86 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
     const tt_batch_options *o = options ? options : &def;
     const tt_accel_vtable *vt = accel->vt;
     const int threads = threads_of(accel);
+    const int use_packets = packets_allowed(vt, o, hits != NULL);
     plan p;
-    plan_make(&p, n, o, threads);
+    plan_make(&p, n, o, threads, use_packets);
     size_t bad = SIZE_MAX, bad_count = 0;
 #pragma omp parallel num_threads(threads) reduction(min : bad) reduction(+ : bad_count)
     {
         tt_ray_stats local;
         memset(&local, 0, sizeof local);
+        tt_packet_stats plocal;
+        memset(&plocal, 0, sizeof plocal);
+        tt_wray pw[TT_PACKET_MAX];
+        tt_hit ph[TT_PACKET_MAX];
+        uint8_t pocc[TT_PACKET_MAX];
+        size_t pidx[TT_PACKET_MAX];
 #pragma omp for schedule(dynamic)
         for (long c = 0; c < p.items; c++) {
+            int packet = use_packets;
+            if (packet && o->packets == TT_PACKETS_AUTO) {
+                /* decide from the directions alone, before preparing any
+                 * ray: an incoherent item then takes the plain loop below
+                 * with nothing staged (its rays' tt_wray's would take 20
+                 * KB of the cache the traversal wants) */
+                tt_dir_box db;
+                tt_dir_box_init(&db);
+                size_t seen = 0;
+                FOR_EACH_RAY(&p, c, i) {
+                    /* about 32 rays of the item suffice to judge it, and
+                     * keep the test's cost to incoherent batches small */
+                    const size_t step = (len_ * rows_ + 31u) / 32u;
+                    if (seen++ % step) continue;
+                    float org[3], dir[3], tmin, tmax;
+                    load_ray(rays, i, org, dir, &tmin, &tmax);
+                    tt_dir_box_add(&db, dir);
+                }
+                packet = seen >= TT_PACKET_MIN && tt_dir_box_coherent(&db);
+            }
+            if (packet) {
+                uint32_t np = 0;
+                FOR_EACH_RAY(&p, c, i) {
+                    float org[3], dir[3], tmin, tmax;
+                    load_ray(rays, i, org, dir, &tmin, &tmax);
+                    tt_status rs = check_ray(org, dir, tmin, tmax);
+                    if (ray_status) ray_status[i] = rs;
+                    if (rs == TT_OK) {
+                        tt_wray_init(&pw[np], org, dir, tmin, tmax);
+                        pidx[np++] = i;
+                        continue;
+                    }
+                    if (i < bad) bad = i;
+                    bad_count++;
+                    if (hits) {
+                        tt_hit h;
+                        tt_hit_clear(&h);
+                        store_hit(hits, i, &h);
+                    } else {
+                        occluded[(ptrdiff_t)i * occluded_stride] = 0;
+                    }
+                }
+                if (np >= TT_PACKET_MIN || o->packets == TT_PACKETS_ON) {
+                    if (hits && o->stats) vt->intersect_packet_stats(accel, pw, np, ph, &plocal);
+                    else if (hits) vt->intersect_packet(accel, pw, np, ph);
+                    else if (o->stats) vt->occluded_packet_stats(accel, pw, np, pocc, &plocal);
+                    else vt->occluded_packet(accel, pw, np, pocc);
+                } else {
+                    for (uint32_t j = 0; j < np; j++) {
+                        tt_trace_args args = {o->start_hint, TT_INVALID_ID,
+                                              o->stats ? &local : NULL};
+                        if (hits && o->stats) vt->intersect_stats(accel, &pw[j], &ph[j], &args, &local);
+                        else if (hits) vt->intersect(accel, &pw[j], &ph[j], &args);
+                        else if (o->stats)
+                            pocc[j] = (uint8_t)(vt->occluded_stats(accel, &pw[j], &args, &local) != 0);
+                        else pocc[j] = (uint8_t)(vt->occluded(accel, &pw[j], &args) != 0);
+                    }
+                }
+                for (uint32_t j = 0; j < np; j++) {
+                    if (hits) store_hit(hits, pidx[j], &ph[j]);
+                    else occluded[(ptrdiff_t)pidx[j] * occluded_stride] = pocc[j];
+                }
+                continue;
+            }
             FOR_EACH_RAY(&p, c, i) {
                 float org[3], dir[3], tmin, tmax;
                 tt_hit h;
@@ -201,6 +295,7 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
             }
         }
         if (o->stats) {
+            tt_ray_stats_add(&local, &plocal.rays);
 #pragma omp critical(tt_batch_stats)
             tt_ray_stats_add(o->stats, &local);
         }

@@ -14,8 +14,11 @@
  *    the t test); tt_tri_block_pack gives them NaN vertices instead, so no
  *    kernel needs that test, and unused lanes are NaN too (prim =
  *    TT_INVALID_ID): a NaN lane fails the t test in every kernel;
- *  - ties at equal t go to the lowest lane of the first block, as a scalar
- *    loop in lane order with a strict < would give.
+ *  - ties at equal t go to the smaller triangle id (tt_tri_better), so the
+ *    closest hit does not depend on the order blocks are visited in: a
+ *    packet traversal (rtree/trace/rtc_packet.h) visits them in another
+ *    order than a single ray, and must give the same answer bit for bit;
+ *    bruteforce (ids in order, strict <) gives exactly this answer too.
  *
  * Per-ISA kernels (tri_block_sse42.h, _avx2.h, _avx512.h) are static inline
  * functions with the signatures of the scalar ones below, for inclusion in a
@@ -56,8 +59,23 @@ void tt_tri_block_pack(const float *tri, const uint32_t *ids, uint32_t n, tt_tri
  * (its unsheared normal is exactly zero in float). */
 int tt_tri_is_degenerate(const float *a, const float *b, const float *c);
 
+/* The tie rule of every closest-hit block kernel: a candidate replaces the
+ * hit so far when nearer, or at equal t when its id is smaller; with no hit
+ * yet (prim TT_INVALID_ID) hit->t is the ray's tmax, an open bound. A
+ * kernel tests its lanes on [tmin, tt_tri_tie_limit(hit)) (t <= hit->t when
+ * there is a hit) and then keeps the candidates tt_tri_better accepts. */
+TT_HD float tt_tri_tie_limit(const tt_hit *hit)
+{
+    return hit->prim == TT_INVALID_ID ? hit->t : nextafterf(hit->t, INFINITY);
+}
+TT_HD int tt_tri_better(float t, uint32_t prim, const tt_hit *hit)
+{
+    return t < hit->t || (t == hit->t && prim < hit->prim);
+}
+
 /* Closest hit among `count` blocks on [r->tmin, hit->t): updates *hit (t,
- * u, v, prim) when a lane is nearer than hit->t; returns 1 if it did. */
+ * u, v, prim) when a lane is nearer than hit->t (or as near, with a smaller
+ * id); returns 1 if it did. */
 TT_HD int tt_tri_blocks_intersect_scalar(const tt_wray *r, const tt_tri_block *b,
                                          uint32_t count, tt_hit *hit)
 {
@@ -68,7 +86,8 @@ TT_HD int tt_tri_blocks_intersect_scalar(const tt_wray *r, const tt_tri_block *b
             const float bb[3] = {b[j].v[3][i], b[j].v[4][i], b[j].v[5][i]};
             const float c[3] = {b[j].v[6][i], b[j].v[7][i], b[j].v[8][i]};
             float t, u, v;
-            if (tt_intersect_triangle(r, a, bb, c, hit->t, &t, &u, &v)) {
+            if (tt_intersect_triangle(r, a, bb, c, tt_tri_tie_limit(hit), &t, &u, &v) &&
+                tt_tri_better(t, b[j].prim[i], hit)) {
                 hit->t = t;
                 hit->u = u;
                 hit->v = v;

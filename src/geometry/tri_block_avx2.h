@@ -118,19 +118,22 @@ TT_TRI_KERNEL int tt_tri_blocks_intersect_avx2(const tt_wray *r, const tt_tri_bl
             continue;
         }
         if (!cand) continue;
+        const float limit = tt_tri_tie_limit(hit);
         __m256 inv_det;
         const __m256 t = tt_tri_t_avx2(&q, &L, &inv_det);
-        int m = cand & tt_tri_in_range_avx2(&q, t, hit->t);
+        int m = cand & tt_tri_in_range_avx2(&q, t, limit);
         if (!m) continue;
-        /* The lanes in lane order with a strict <, as the scalar loop: the
-         * nearest wins, the lowest lane among equals. Usually one lane. */
+        /* The nearest lane, the smallest id among equals (tt_tri_better),
+         * as the scalar loop. Usually one lane. */
         float ts[TT_TRI_BLOCK_W], vs[TT_TRI_BLOCK_W], ws[TT_TRI_BLOCK_W], is[TT_TRI_BLOCK_W];
         _mm256_storeu_ps(ts, t);
         int best = __builtin_ctz((unsigned)m);
         for (m &= m - 1; m; m &= m - 1) {
             const int i = __builtin_ctz((unsigned)m);
-            if (ts[i] < ts[best]) best = i;
+            if (ts[i] < ts[best] || (ts[i] == ts[best] && b[j].prim[i] < b[j].prim[best]))
+                best = i;
         }
+        if (!tt_tri_better(ts[best], b[j].prim[best], hit)) continue;
         _mm256_storeu_ps(vs, L.V);
         _mm256_storeu_ps(ws, L.W);
         _mm256_storeu_ps(is, inv_det);

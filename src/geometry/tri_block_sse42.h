@@ -110,6 +110,7 @@ TT_TRI_KERNEL int tt_tri_blocks_intersect_sse42(const tt_wray *r, const tt_tri_b
             continue;
         }
         if (!(cand_lo | cand_hi)) continue;
+        const float limit = tt_tri_tie_limit(hit);
         /* Both halves against the nearest hit before this block; the lane
          * loop below then keeps scalar order (strict <, lowest lane first). */
         float ts[TT_TRI_BLOCK_W], vs[TT_TRI_BLOCK_W], ws[TT_TRI_BLOCK_W], is[TT_TRI_BLOCK_W];
@@ -117,14 +118,14 @@ TT_TRI_KERNEL int tt_tri_blocks_intersect_sse42(const tt_wray *r, const tt_tri_b
         if (cand_lo) {
             __m128 inv;
             const __m128 t = tt_tri_t_sse42(&q, &lo, &inv);
-            m |= cand_lo & tt_tri_in_range_sse42(&q, t, hit->t);
+            m |= cand_lo & tt_tri_in_range_sse42(&q, t, limit);
             _mm_storeu_ps(ts, t);
             _mm_storeu_ps(is, inv);
         }
         if (cand_hi) {
             __m128 inv;
             const __m128 t = tt_tri_t_sse42(&q, &hi, &inv);
-            m |= (cand_hi & tt_tri_in_range_sse42(&q, t, hit->t)) << 4;
+            m |= (cand_hi & tt_tri_in_range_sse42(&q, t, limit)) << 4;
             _mm_storeu_ps(ts + 4, t);
             _mm_storeu_ps(is + 4, inv);
         }
@@ -132,8 +133,10 @@ TT_TRI_KERNEL int tt_tri_blocks_intersect_sse42(const tt_wray *r, const tt_tri_b
         int best = __builtin_ctz((unsigned)m);
         for (m &= m - 1; m; m &= m - 1) {
             const int i = __builtin_ctz((unsigned)m);
-            if (ts[i] < ts[best]) best = i;
+            if (ts[i] < ts[best] || (ts[i] == ts[best] && b[j].prim[i] < b[j].prim[best]))
+                best = i;
         }
+        if (!tt_tri_better(ts[best], b[j].prim[best], hit)) continue;
         _mm_storeu_ps(vs, lo.V);
         _mm_storeu_ps(vs + 4, hi.V);
         _mm_storeu_ps(ws, lo.W);

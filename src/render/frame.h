@@ -25,6 +25,10 @@ typedef struct tt_frame {
     float eps;          /* shadow-ray offset: 1e-4 * scene diagonal           */
     uint32_t eye_hint;  /* tt_accel_locate(eye), once per frame               */
     int caster_hint;    /* shadow rays start at the last caster's node       */
+    uint32_t packets;   /* TT_PACKETS_*; OFF where the structure has none    */
+    /* the counting passes' per-packet counts (packets, node visits, active
+     * lanes, fallback rays), summed over the threads */
+    tt_packet_stats packet_primary, packet_shadow;
     uint32_t *prim;     /* per pixel: triangle id or TT_INVALID_ID            */
     float *t;           /* per pixel: hit distance or +inf                    */
     uint32_t *end_hint; /* per pixel: where the primary ray ended             */

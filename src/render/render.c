@@ -101,6 +101,9 @@ static tt_status validate(tt_context *ctx, const tt_scene *scene, const tt_accel
     if (o->width == 0 || o->height == 0)
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "tt_render: image size %ux%u is empty",
                         o->width, o->height);
+    if (o->packets > TT_PACKETS_ON)
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT,
+                        "tt_render: packets %u is not TT_PACKETS_AUTO, _OFF or _ON", o->packets);
     if (o->repeat < 1)
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "tt_render: repeat %d is less than 1",
                         o->repeat);
@@ -181,6 +184,10 @@ static void init_frame(tt_context *ctx, const tt_scene *scene, const tt_accel *a
      * is the kd-tree's; other structures ignore its slot). */
     f->caster_hint = (accel->vt->caps & TT_CAP_CASTER_HINT) &&
                      accel->options.kdtree.shadow_caster_hint;
+    /* packets where the structure has them (the caster hint is a per-ray
+     * chain through a tile's shadow rays: those stay single rays) */
+    f->packets = accel->vt->intersect_packet && accel->vt->occluded_packet ? o->packets
+                                                                           : TT_PACKETS_OFF;
     /* one point location for all primary rays (they share the eye) */
     f->eye_hint = accel->vt->locate ? accel->vt->locate(accel, camera->eye) : TT_INVALID_ID;
 }
@@ -231,7 +238,16 @@ static void cpu_passes(tt_frame *f, const tt_render_options *o, double *primary_
         tt_frame_trace_primary_stats(f, &s->primary_stats);
         if (o->shadows) tt_frame_trace_shadow_stats(f, &s->shadow_stats);
         s->has_stats = 1;
+        const tt_packet_stats *ps[2] = {&f->packet_primary, &f->packet_shadow};
+        tt_packet_counts *pc[2] = {&s->primary_packets, &s->shadow_packets};
+        for (int k = 0; k < 2; k++) {
+            pc[k]->packets = ps[k]->packets;
+            pc[k]->node_visits = ps[k]->node_visits;
+            pc[k]->active_lanes = ps[k]->active_lanes;
+            pc[k]->fallback_rays = ps[k]->fallback_rays;
+        }
     }
+    s->packets = f->packets != TT_PACKETS_OFF;
     timed_passes(f, o, primary_s, shadow_s);
 }
 

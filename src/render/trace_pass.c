@@ -3,6 +3,7 @@
  * checks per ray, unlike the public tt_intersect1). */
 #include <string.h>
 
+#include "accel/packets.h"
 #include "render/frame.h"
 
 static void tile_bounds(const tt_frame *f, uint32_t tile, uint32_t *x0, uint32_t *y0,
@@ -24,6 +25,19 @@ static void store_pixel_stats(tt_frame *f, size_t i, const tt_ray_stats *s)
     f->pixel_stats[TT_HEAT_LEAVES][i] = saturate(s->leaves);
     f->pixel_stats[TT_HEAT_TRIANGLES][i] = saturate(s->triangles);
     f->pixel_stats[TT_HEAT_BOXES][i] = saturate(s->boxes);
+}
+
+/* A tile's packet counts into the frame's (counting passes only). */
+static void packet_stats_add(tt_packet_stats *sum, const tt_packet_stats *s)
+{
+#pragma omp atomic
+    sum->packets += s->packets;
+#pragma omp atomic
+    sum->node_visits += s->node_visits;
+#pragma omp atomic
+    sum->active_lanes += s->active_lanes;
+#pragma omp atomic
+    sum->fallback_rays += s->fallback_rays;
 }
 
 #define TT_STATS 0

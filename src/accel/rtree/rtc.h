@@ -7,6 +7,7 @@
 #ifndef TT_ACCEL_RTREE_RTC_H
 #define TT_ACCEL_RTREE_RTC_H
 
+#include "accel/accel.h" /* tt_packet_stats */
 #include "accel/rtree/layout/rtc_layout.h"
 #include "accel/rtree/build/rtree_build.h"
 #include "core/context.h"
@@ -17,11 +18,21 @@
 typedef int (*tt_rtc_trace_fn)(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,
                                tt_ray_stats *stats);
 
+/* A packet traversal (rtc_packet.h): rays[0..n), n <= TT_PACKET_MAX, each
+ * answered exactly as the single-ray traversal answers it: closest hits
+ * into hits (any = 0) or occlusion bytes into occ (any = 1). The _stats
+ * form adds to *stats. */
+typedef void (*tt_rtc_packet_fn)(const tt_rtc *t, const tt_wray *rays, uint32_t n, int any,
+                                 tt_hit *hits, uint8_t *occ, tt_packet_stats *stats);
+
 typedef struct rtc_tree {
     tt_rtc c;
     void *node_mem, *block_mem; /* the allocations behind c.node, c.block */
     int m;                      /* the fill minimum the check enforces */
     tt_rtc_trace_fn trace, trace_stats;
+    /* NULL where this ISA has no packet kernel (scalar, SSE4.2) or the
+     * traversal is the stackless one: the rays then go one by one */
+    tt_rtc_packet_fn packet, packet_stats;
 } rtc_tree;
 
 /* Packs the finished pointer tree (any builder's) into t; on error t holds
@@ -64,6 +75,17 @@ TT_RTC_DECLARE_STACK(scalar)
 TT_RTC_DECLARE_STACK(sse42)
 TT_RTC_DECLARE_STACK(avx2)
 TT_RTC_DECLARE_STACK(avx512)
+#endif
+
+/* The packet units (rtc_packet_<isa>.c). */
+#ifdef TT_HAVE_X86_KERNELS
+#define TT_RTC_DECLARE_PACKET(isa)                                                                \
+    void tt_rtc_packet_##isa(const tt_rtc *t, const tt_wray *rays, uint32_t n, int any,           \
+                             tt_hit *hits, uint8_t *occ, tt_packet_stats *stats);                 \
+    void tt_rtc_packet_##isa##_stats(const tt_rtc *t, const tt_wray *rays, uint32_t n, int any,   \
+                                     tt_hit *hits, uint8_t *occ, tt_packet_stats *stats);
+TT_RTC_DECLARE_PACKET(avx2)
+TT_RTC_DECLARE_PACKET(avx512)
 #endif
 
 /* For the units: RTC_FN(name) appends the unit's RTC_ISA suffix. */

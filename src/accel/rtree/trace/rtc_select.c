@@ -5,6 +5,7 @@
 
 void rtc_select(rtc_tree *t, int traversal, tt_isa isa)
 {
+    t->packet = t->packet_stats = NULL;
     if (traversal == TT_RTREE_STACKLESS) {
         t->trace = tt_rtc_stackless_scalar;
         t->trace_stats = tt_rtc_stackless_scalar_stats;
@@ -20,9 +21,13 @@ void rtc_select(rtc_tree *t, int traversal, tt_isa isa)
     } else if (isa == TT_ISA_AVX2) {
         t->trace = tt_rtc_stack_avx2;
         t->trace_stats = tt_rtc_stack_avx2_stats;
+        t->packet = tt_rtc_packet_avx2;
+        t->packet_stats = tt_rtc_packet_avx2_stats;
     } else if (isa == TT_ISA_AVX512) {
         t->trace = tt_rtc_stack_avx512;
         t->trace_stats = tt_rtc_stack_avx512_stats;
+        t->packet = tt_rtc_packet_avx512;
+        t->packet_stats = tt_rtc_packet_avx512_stats;
     }
 #else
     (void)isa;

@@ -1,0 +1,57 @@
+/* When rays are worth tracing as a packet: the automatic choice of the batch
+ * calls (batch.c) and the renderer (render/trace_tile.h), in one place. */
+#ifndef TT_ACCEL_PACKETS_H
+#define TT_ACCEL_PACKETS_H
+
+#include <math.h>
+#include <stdint.h>
+
+#include "geometry/ray.h"
+
+/* Packets of fewer rays go ray by ray: below this a packet's per-node work
+ * is shared by too few rays. */
+#define TT_PACKET_MIN 16u
+
+/* Coherent: the rays' normalised directions fit in a box no wider than 0.5
+ * on every axis (about a 30 degree cone): a camera tile, or the shadow rays
+ * of a tile towards one light. Ambient-occlusion and diffuse rays are not,
+ * and go ray by ray, so an incoherent batch pays only this pass over its
+ * directions. The box is grown one direction at a time (a NaN direction,
+ * from a ray the contract refuses, leaves it as it was). */
+typedef struct tt_dir_box {
+    float lo[3], hi[3];
+    uint32_t n;
+} tt_dir_box;
+
+static inline void tt_dir_box_init(tt_dir_box *b)
+{
+    for (int k = 0; k < 3; k++) b->lo[k] = 2.0f, b->hi[k] = -2.0f;
+    b->n = 0;
+}
+static inline void tt_dir_box_add(tt_dir_box *b, const float *d)
+{
+    const float s = 1.0f / sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int k = 0; k < 3; k++) {
+        const float x = d[k] * s;
+        b->lo[k] = x < b->lo[k] ? x : b->lo[k];
+        b->hi[k] = x > b->hi[k] ? x : b->hi[k];
+    }
+    b->n++;
+}
+/* (at least 8 directions: a judgement from fewer is a guess) */
+static inline int tt_dir_box_coherent(const tt_dir_box *b)
+{
+    return b->n >= TT_PACKET_MIN / 2 && b->hi[0] - b->lo[0] <= 0.5f && b->hi[1] - b->lo[1] <= 0.5f &&
+           b->hi[2] - b->lo[2] <= 0.5f;
+}
+
+static inline int tt_packet_coherent(const tt_wray *w, uint32_t n)
+{
+    if (n < TT_PACKET_MIN) return 0;
+    tt_dir_box b;
+    tt_dir_box_init(&b);
+    for (uint32_t i = 0; i < n; i++) tt_dir_box_add(&b, w[i].dir);
+    return tt_dir_box_coherent(&b);
+}
+
+#endif

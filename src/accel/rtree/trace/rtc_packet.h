@@ -1,0 +1,525 @@
+/* Packet traversal of the compact R-tree (rtc_layout.h): up to
+ * TT_PACKET_MAX rays (a batch's 16 x 16 tile) walk the tree together, SIMD
+ * across rays (PK_L = 8 lanes for AVX2, 16 for AVX-512), a template
+ * compiled once per ISA unit (rtc_packet_avx2.c, _avx512.c) and once per
+ * statistics variant (accel/stats_variant.h).
+ *
+ * Method: large packets over a wide tree with whole-node culling (Wald,
+ * Boulos & Shirley 2007, "Ray tracing deformable scenes using dynamic
+ * bounding volume hierarchies", and Overbeck, Ramamoorthi & Mark 2008,
+ * "Large ray packets for real-time Whitted ray tracing": the packet's
+ * active rays are kept as per-group lane masks with a first..last range of
+ * groups, so a node costs only the groups that still have active rays).
+ *  - The packet is split by direction octant first (rays of one octant share
+ *    the near/far planes of every box, as the single-ray kernel picks them
+ *    per ray, so the packet's box test is straight-line code; a mixed tile
+ *    becomes up to 8 smaller packets). An octant with fewer than
+ *    PK_MIN_RAYS rays is traced ray by ray (the single-ray kernel).
+ *  - Per node, an interval-arithmetic test (Boulos et al. 2006; Wald et al.
+ *    2007 §4) of all S child boxes at once against the bounds of the
+ *    packet's origins and reciprocal directions culls children no ray can
+ *    hit; it is conservative to the rounding (float subtraction and
+ *    multiplication round monotonically), so it drops only boxes that every
+ *    ray's own test misses.
+ *  - The surviving children are tested ray by ray, SIMD across the rays of
+ *    each active group, with exactly the single-ray kernel's operations in
+ *    its order (rtc_box_x86.h / tt_rt_box_test_at), against each ray's own
+ *    closest hit so far. The hit children are entered near to far by their
+ *    nearest ray's entry distance.
+ *  - Leaves: a block of 8 triangles is tested against the rays of a group
+ *    SIMD across rays, triangle by triangle in lane order, with
+ *    tt_intersect_triangle's float operations in its order; a lane with a
+ *    zero edge function is recomputed by tt_intersect_triangle itself, and
+ *    a group whose rays do not share the shear's axis permutation is tested
+ *    ray by ray with the single-ray block kernel. So every ray's candidate
+ *    triangles give the single-ray kernel's t, u, v bit for bit, and its
+ *    closest hit is the single-ray answer (ties at equal t go to the
+ *    smaller id in both: rtc_pk_block).
+ *
+ * The including unit defines PK_L, the vector macros PK_* (see
+ * rtc_packet_avx512.c), RTC_ISA, RTC_BLOCKS_INTERSECT / _OCCLUDED (the
+ * single-ray block kernels) and RTC_SINGLE (the unit's single-ray stack
+ * traversal, for small octants). */
+#include "accel/rtree/layout/rtc_layout.h"
+
+#ifndef RTC_PACKET_TYPES
+#define RTC_PACKET_TYPES
+
+#define PK_N TT_PACKET_MAX
+#define PK_G (PK_N / PK_L)
+/* Octants with fewer rays go ray by ray: below this the packet's per-node
+ * work (interval test, sorting) costs more than it shares. */
+#ifndef PK_MIN_RAYS
+#define PK_MIN_RAYS 4u
+#endif
+
+/* One packet of rays of one octant, structure of arrays, PK_G groups of
+ * PK_L lanes; lanes past n repeat ray 0 and are never active. */
+typedef struct pk_rays {
+    _Alignas(64) float ox[PK_N];
+    _Alignas(64) float oy[PK_N];
+    _Alignas(64) float oz[PK_N];
+    _Alignas(64) float rx[PK_N];
+    _Alignas(64) float ry[PK_N];
+    _Alignas(64) float rz[PK_N];
+    _Alignas(64) float tmin[PK_N];
+    _Alignas(64) float t[PK_N];
+    _Alignas(64) float u[PK_N];
+    _Alignas(64) float v[PK_N];
+    _Alignas(64) float sx[PK_N];
+    _Alignas(64) float sy[PK_N];
+    _Alignas(64) float sz[PK_N];
+    _Alignas(64) uint32_t prim[PK_N];
+    const tt_wray *ray[PK_N];
+    uint32_t done[PK_G];  /* occlusion: rays answered                      */
+    uint32_t valid[PK_G]; /* lanes holding rays                            */
+    int8_t perm[PK_G];    /* the group's shared kx*9+ky*3+kz, or -1         */
+    uint32_t n, groups;
+    uint32_t nrow[3], frow[3]; /* the octant's near / far bound rows (0..5) */
+    int ia;                    /* interval test usable (finite reciprocals) */
+    float omin[3], omax[3], rmin[3], rmax[3], tmin_min;
+} pk_rays;
+
+/* A node waiting on the stack with its active rays. */
+typedef struct pk_entry {
+    uint32_t node, level, g0, g1;
+    uint32_t m[PK_G];
+} pk_entry;
+
+#define PK_STACK (TT_RTC_STACK_SIZE)
+
+static inline uint32_t pk_popcount(uint32_t x) { return (uint32_t)__builtin_popcount(x); }
+#endif
+
+/* Block b's triangles against the rays of group g in lanes m (nonzero).
+ * A lane's hit is replaced by a nearer triangle, or at equal t by one with
+ * a smaller id (tt_tri_better, geometry/tri_block.h): the single-ray block
+ * kernels' rule, which makes the closest hit independent of the order in
+ * which blocks are visited. Ids are below 2^31, and TT_INVALID_ID is -1 as
+ * a signed integer, so "id < the lane's id" as a signed compare is false
+ * while the lane has no hit (its t is then tmax, an open bound). */
+TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_block))(pk_rays *P, const int any, uint32_t g,
+                                                   uint32_t m, const tt_tri_block *b)
+{
+    const uint32_t base = g * PK_L;
+    if (P->perm[g] < 0) {
+        /* the rays of this group shear differently: one by one with the
+         * single-ray kernel */
+        while (m) {
+            const uint32_t l = base + (uint32_t)__builtin_ctz(m);
+            m &= m - 1;
+            if (any) {
+                if (RTC_BLOCKS_OCCLUDED(P->ray[l], b, 1, P->t[l])) P->done[g] |= 1u << (l - base);
+            } else {
+                tt_hit h = {P->t[l], P->u[l], P->v[l], P->prim[l]};
+                if (RTC_BLOCKS_INTERSECT(P->ray[l], b, 1, &h)) {
+                    P->t[l] = h.t;
+                    P->u[l] = h.u;
+                    P->v[l] = h.v;
+                    P->prim[l] = h.prim;
+                }
+            }
+        }
+        return;
+    }
+    const int kx = P->perm[g] / 9, ky = P->perm[g] / 3 % 3, kz = P->perm[g] % 3;
+    const float *const orow[3] = {P->ox + base, P->oy + base, P->oz + base};
+    const pk_v ox = PK_LOAD(orow[kx]), oy = PK_LOAD(orow[ky]), oz = PK_LOAD(orow[kz]);
+    const pk_v sx = PK_LOAD(P->sx + base), sy = PK_LOAD(P->sy + base), sz = PK_LOAD(P->sz + base);
+    const pk_v tmin = PK_LOAD(P->tmin + base);
+    const pk_v zero = PK_SET1(0.0f), one = PK_SET1(1.0f);
+    for (int i = 0; i < TT_TRI_BLOCK_W && m; i++) {
+        if (b->prim[i] == TT_INVALID_ID) continue;
+        const pk_v ax = PK_SUB(PK_SET1(b->v[kx][i]), ox), ay = PK_SUB(PK_SET1(b->v[ky][i]), oy),
+                   az = PK_SUB(PK_SET1(b->v[kz][i]), oz);
+        const pk_v bx = PK_SUB(PK_SET1(b->v[3 + kx][i]), ox),
+                   by = PK_SUB(PK_SET1(b->v[3 + ky][i]), oy),
+                   bz = PK_SUB(PK_SET1(b->v[3 + kz][i]), oz);
+        const pk_v cx = PK_SUB(PK_SET1(b->v[6 + kx][i]), ox),
+                   cy = PK_SUB(PK_SET1(b->v[6 + ky][i]), oy),
+                   cz = PK_SUB(PK_SET1(b->v[6 + kz][i]), oz);
+        const pk_v Ax = PK_SUB(ax, PK_MUL(sx, az)), Ay = PK_SUB(ay, PK_MUL(sy, az));
+        const pk_v Bx = PK_SUB(bx, PK_MUL(sx, bz)), By = PK_SUB(by, PK_MUL(sy, bz));
+        const pk_v Cx = PK_SUB(cx, PK_MUL(sx, cz)), Cy = PK_SUB(cy, PK_MUL(sy, cz));
+        const pk_v U = PK_SUB(PK_MUL(Cx, By), PK_MUL(Cy, Bx));
+        const pk_v V = PK_SUB(PK_MUL(Ax, Cy), PK_MUL(Ay, Cx));
+        const pk_v W = PK_SUB(PK_MUL(Bx, Ay), PK_MUL(By, Ax));
+        const uint32_t zl =
+            PK_BITS(PK_MOR(PK_MOR(PK_CMP_EQ(U, zero), PK_CMP_EQ(V, zero)), PK_CMP_EQ(W, zero))) &
+            m;
+        const pk_m neg = PK_MOR(PK_MOR(PK_CMP_LT(U, zero), PK_CMP_LT(V, zero)), PK_CMP_LT(W, zero));
+        const pk_m pos = PK_MOR(PK_MOR(PK_CMP_GT(U, zero), PK_CMP_GT(V, zero)), PK_CMP_GT(W, zero));
+        const pk_v det = PK_ADD(PK_ADD(U, V), W);
+        const pk_v T = PK_ADD(PK_ADD(PK_MUL(U, PK_MUL(sz, az)), PK_MUL(V, PK_MUL(sz, bz))),
+                              PK_MUL(W, PK_MUL(sz, cz)));
+        const pk_v inv_det = PK_DIV(one, det);
+        const pk_v tt = PK_MUL(T, inv_det);
+        const pk_v tcur = PK_LOAD(P->t + base);
+        const pk_m nearer = PK_MOR(PK_CMP_LT(tt, tcur),
+                                   PK_MAND(PK_CMP_EQ(tt, tcur),
+                                           PK_IDGT(PK_LOADI(P->prim + base), b->prim[i])));
+        const pk_m ok = PK_MAND(PK_MAND(PK_CMP_NEQ(det, zero), PK_CMP_GE(tt, tmin)),
+                                any ? PK_CMP_LT(tt, tcur) : nearer);
+        const uint32_t acc = PK_BITS(PK_MANDNOT(PK_MAND(neg, pos), ok)) & m & ~zl;
+        if (any) {
+            m &= ~acc;
+            P->done[g] |= acc;
+        } else if (acc) {
+            const pk_m am = PK_MASK(acc);
+            PK_STORE(P->t + base, PK_BLEND(am, tcur, tt));
+            PK_STORE(P->u + base, PK_BLEND(am, PK_LOAD(P->u + base), PK_MUL(V, inv_det)));
+            PK_STORE(P->v + base, PK_BLEND(am, PK_LOAD(P->v + base), PK_MUL(W, inv_det)));
+            PK_STOREI(P->prim + base, PK_BLENDI(am, PK_LOADI(P->prim + base), b->prim[i]));
+        }
+        /* zero edge functions: tt_intersect_triangle's double-precision
+         * recomputation, lane by lane (rare) */
+        for (uint32_t z = zl; z; z &= z - 1) {
+            const uint32_t l = base + (uint32_t)__builtin_ctz(z);
+            const float va[3] = {b->v[0][i], b->v[1][i], b->v[2][i]};
+            const float vb[3] = {b->v[3][i], b->v[4][i], b->v[5][i]};
+            const float vc[3] = {b->v[6][i], b->v[7][i], b->v[8][i]};
+            float th, uh, vh;
+            const tt_hit cur = {P->t[l], P->u[l], P->v[l], P->prim[l]};
+            if (tt_intersect_triangle(P->ray[l], va, vb, vc, any ? cur.t : tt_tri_tie_limit(&cur),
+                                      &th, &uh, &vh) &&
+                (any || tt_tri_better(th, b->prim[i], &cur))) {
+                if (any) {
+                    P->done[g] |= 1u << (l - base);
+                    m &= ~(1u << (l - base));
+                } else {
+                    P->t[l] = th;
+                    P->u[l] = uh;
+                    P->v[l] = vh;
+                    P->prim[l] = b->prim[i];
+                }
+            }
+        }
+    }
+}
+
+/* The interval test of all S children of node record rec against the
+ * packet's bounds: bit i clear where no ray of the packet can hit child i. */
+TT_RT_INLINE uint32_t TT_VARIANT(RTC_FN(rtc_pk_interval))(const pk_rays *P, const float *rec, uint32_t S)
+{
+    uint32_t keep = 0;
+    const float c1 = 1.0f / 4194304.0f;
+    for (uint32_t i = 0; i < S; i += PK_L) {
+        pk_v tn = PK_SET1(P->tmin_min), tf = PK_SET1(TT_INF);
+        for (int k = 0; k < 3; k++) {
+            const int neg = P->nrow[k] != (uint32_t)k;
+            const pk_v rlo = PK_SET1(P->rmin[k]), rhi = PK_SET1(P->rmax[k]);
+            const pk_v dn = PK_SUB(PK_LOADU(tt_rtc_boxes(rec) + P->nrow[k] * S + i),
+                                   PK_SET1(neg ? P->omin[k] : P->omax[k]));
+            const pk_v df = PK_SUB(PK_LOADU(tt_rtc_boxes(rec) + P->frow[k] * S + i),
+                                   PK_SET1(neg ? P->omax[k] : P->omin[k]));
+            tn = PK_MAX(PK_MIN(PK_MUL(dn, rlo), PK_MUL(dn, rhi)), tn);
+            tf = PK_MIN(PK_MAX(PK_MUL(df, rlo), PK_MUL(df, rhi)), tf);
+        }
+        tf = PK_ADD(tf, PK_MUL(PK_ABS(tf), PK_SET1(c1)));
+        keep |= (PK_BITS(PK_CMP_GT(tn, tf)) ^ ((1u << PK_L) - 1u)) << i;
+    }
+    return keep;
+}
+
+/* The packet's walk: near to far, like the single-ray stack traversal. */
+TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, const uint32_t S,
+                                                  const int any, pk_rays *P,
+                                                  tt_packet_stats *stats)
+{
+    pk_entry stack[PK_STACK]; /* as the single-ray stack: S - 1 a level */
+    uint32_t sp = 0;
+    pk_entry cur;
+    cur.node = 0;
+    cur.level = t->height;
+    cur.g0 = 0;
+    cur.g1 = P->groups - 1;
+    for (uint32_t g = 0; g < P->groups; g++) cur.m[g] = P->valid[g];
+    for (uint32_t g = P->groups; g < PK_G; g++) cur.m[g] = 0;
+    const float c1 = 1.0f / 4194304.0f, c2 = 1.0f / 65536.0f;
+    const pk_v inf = PK_SET1(TT_INF);
+    (void)stats;
+    for (;;) {
+        const float *rec = tt_rtc_node(t, cur.node);
+        const float *box = tt_rtc_boxes(rec); /* SoA rows, stride S */
+        const uint32_t *child = tt_rtc_child(t, rec);
+        if (any) {
+            /* rays answered since this entry was pushed drop out; with
+             * none left the entry is skipped, with none in the packet the
+             * walk ends */
+            uint32_t live = 0, left = 0;
+            for (uint32_t g = cur.g0; g <= cur.g1; g++) live |= cur.m[g] &= ~P->done[g];
+            for (uint32_t g = 0; g < P->groups; g++) left |= P->valid[g] & ~P->done[g];
+            if (!left) return;
+            if (!live) goto pop;
+        }
+#if TT_STATS
+        {
+            const uint32_t count = tt_rtc_count(t, rec);
+            uint64_t act = 0;
+            for (uint32_t g = cur.g0; g <= cur.g1; g++) act += pk_popcount(cur.m[g]);
+            TT_COUNT(stats, node_visits, 1);
+            TT_COUNT(stats, active_lanes, act);
+            TT_COUNT(stats, rays.nodes, act);
+            TT_COUNT(stats, rays.interior, act);
+            TT_COUNT(stats, rays.boxes, act * count);
+        }
+#endif
+        uint32_t cand = tt_rtc_used(t, rec);
+        if (P->ia && S % PK_L == 0) cand &= TT_VARIANT(RTC_FN(rtc_pk_interval))(P, rec, S);
+        /* the hit children, their rays and nearest entry */
+        uint32_t nh = 0, ord[TT_RT_MAX_M];
+        float ot[TT_RT_MAX_M];
+        uint32_t cm[TT_RT_MAX_M][PK_G], cg0[TT_RT_MAX_M], cg1[TT_RT_MAX_M];
+        while (cand) {
+            const uint32_t c = (uint32_t)__builtin_ctz(cand);
+            cand &= cand - 1;
+            const pk_v bnx = PK_SET1(box[P->nrow[0] * S + c]), bny = PK_SET1(box[P->nrow[1] * S + c]),
+                       bnz = PK_SET1(box[P->nrow[2] * S + c]);
+            const pk_v bfx = PK_SET1(box[P->frow[0] * S + c]), bfy = PK_SET1(box[P->frow[1] * S + c]),
+                       bfz = PK_SET1(box[P->frow[2] * S + c]);
+            pk_v vmin = inf;
+            uint32_t g0 = PK_G, g1 = 0;
+            uint32_t *mk = cm[nh];
+            for (uint32_t g = cur.g0; g <= cur.g1; g++) {
+                const uint32_t m = cur.m[g];
+                mk[g] = 0;
+                if (!m) continue;
+                const uint32_t o = g * PK_L;
+                const pk_v ox = PK_LOAD(P->ox + o), oy = PK_LOAD(P->oy + o), oz = PK_LOAD(P->oz + o);
+                const pk_v ix = PK_LOAD(P->rx + o), iy = PK_LOAD(P->ry + o), iz = PK_LOAD(P->rz + o);
+                const pk_v tnx = PK_MUL(PK_SUB(bnx, ox), ix);
+                const pk_v tny = PK_MUL(PK_SUB(bny, oy), iy);
+                const pk_v tnz = PK_MUL(PK_SUB(bnz, oz), iz);
+                const pk_v tfx = PK_MUL(PK_SUB(bfx, ox), ix);
+                const pk_v tfy = PK_MUL(PK_SUB(bfy, oy), iy);
+                const pk_v tfz = PK_MUL(PK_SUB(bfz, oz), iz);
+                const pk_v tn = PK_MAX(tnz, PK_MAX(tny, PK_MAX(tnx, PK_LOAD(P->tmin + o))));
+                const pk_v tf0 = PK_MIN(tfz, PK_MIN(tfy, PK_MIN(tfx, inf)));
+                const pk_v tf = PK_ADD(tf0, PK_MUL(PK_ABS(tf0), PK_SET1(c1)));
+                const pk_v entry = PK_SUB(tn, PK_MUL(PK_ABS(tn), PK_SET1(c2)));
+                const pk_m hm = PK_MAND(PK_CMP_LE(tn, tf), PK_CMP_LT(entry, PK_LOAD(P->t + o)));
+                const uint32_t h = PK_BITS(hm) & m;
+                if (!h) continue;
+                mk[g] = h;
+                vmin = PK_MIN(PK_BLEND(PK_MASK(h), inf, entry), vmin);
+                if (g < g0) g0 = g;
+                g1 = g;
+            }
+            if (g0 == PK_G) continue;
+            const float te = PK_HMIN(vmin);
+            cg0[nh] = g0;
+            cg1[nh] = g1;
+            uint32_t j = nh++;
+            /* insertion by nearest entry; ord holds slots of cm */
+            while (j > 0 && ot[j - 1] > te) {
+                ot[j] = ot[j - 1];
+                ord[j] = ord[j - 1];
+                j--;
+            }
+            ot[j] = te;
+            ord[j] = nh - 1;
+            /* remember which child slot nh - 1 is */
+            cg0[nh - 1] |= c << 16;
+        }
+        if (nh) {
+            if (cur.level == 1) {
+                /* Leaves share blocks (rtc_layout.h): each block of this
+                 * node is tested once, for every ray of every hit leaf on
+                 * it, in the order the nearest leaves first reach it. */
+                const uint32_t base = tt_rtc_leaf_block(child[0]);
+                uint32_t blist[64], nb_list = 0; /* offsets < 64, as in the single-ray kernel */
+                uint32_t bm[64][PK_G];
+                uint32_t bg0[64], bg1[64];
+                uint64_t seen = 0;
+                for (uint32_t j = 0; j < nh; j++) {
+                    const uint32_t s = ord[j];
+                    const uint32_t c = cg0[s] >> 16, g0 = cg0[s] & 0xffffu, g1 = cg1[s];
+                    const uint32_t ref = child[c];
+                    uint32_t nb;
+                    (void)tt_rtc_leaf_blocks(t, ref, &nb);
+                    const uint32_t off = tt_rtc_leaf_block(ref) - base;
+#if TT_STATS
+                    {
+                        uint64_t act = 0;
+                        for (uint32_t g = g0; g <= g1; g++) act += pk_popcount(cm[s][g]);
+                        TT_COUNT(stats, rays.nodes, act);
+                        TT_COUNT(stats, rays.leaves, act);
+                    }
+#endif
+                    for (uint32_t q = 0; q < nb; q++) {
+                        const uint32_t k = off + q;
+                        if (!(seen >> k & 1u)) {
+                            seen |= (uint64_t)1 << k;
+                            blist[nb_list++] = k;
+                            for (uint32_t g = g0; g <= g1; g++) bm[k][g] = cm[s][g];
+                            bg0[k] = g0;
+                            bg1[k] = g1;
+                            continue;
+                        }
+                        /* widen the block's group range, zeroing what it
+                         * gains, then add this leaf's rays */
+                        for (uint32_t g = g0; g < bg0[k]; g++) bm[k][g] = 0;
+                        for (uint32_t g = bg1[k] + 1; g <= g1; g++) bm[k][g] = 0;
+                        if (g0 < bg0[k]) bg0[k] = g0;
+                        if (g1 > bg1[k]) bg1[k] = g1;
+                        for (uint32_t g = g0; g <= g1; g++) bm[k][g] |= cm[s][g];
+                    }
+                }
+                for (uint32_t j = 0; j < nb_list; j++) {
+                    const uint32_t k = blist[j];
+                    const tt_tri_block *b = t->block + base + k;
+                    for (uint32_t g = bg0[k]; g <= bg1[k]; g++) {
+                        uint32_t m = bm[k][g];
+                        if (any) m &= ~P->done[g];
+                        if (!m) continue;
+                        TT_COUNT(stats, rays.triangles, (uint64_t)TT_TRI_BLOCK_W * pk_popcount(m));
+                        TT_VARIANT(RTC_FN(rtc_pk_block))(P, any, g, m, b);
+                    }
+                }
+            } else {
+                for (uint32_t j = nh - 1; j > 0; j--) {
+                    const uint32_t s = ord[j];
+                    pk_entry *e = &stack[sp++];
+                    e->node = child[cg0[s] >> 16];
+                    e->level = cur.level - 1;
+                    e->g0 = cg0[s] & 0xffffu;
+                    e->g1 = cg1[s];
+                    for (uint32_t g = e->g0; g <= e->g1; g++) e->m[g] = cm[s][g];
+                }
+                const uint32_t s = ord[0];
+                cur.node = child[cg0[s] >> 16];
+                cur.level--;
+                cur.g0 = cg0[s] & 0xffffu;
+                cur.g1 = cg1[s];
+                for (uint32_t g = cur.g0; g <= cur.g1; g++) cur.m[g] = cm[s][g];
+                continue;
+            }
+        }
+    pop:
+        if (!sp) return;
+        cur = stack[--sp];
+    }
+}
+
+/* Loads the rays idx[0..n) of rays[] into P (one octant). */
+TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_wray *rays, const uint32_t *idx,
+                                      uint32_t n)
+{
+    P->n = n;
+    P->groups = (n + PK_L - 1) / PK_L;
+    for (uint32_t k = 0; k < 3; k++) {
+        const int neg = rays[idx[0]].rcp[k] < 0.0f;
+        P->nrow[k] = neg ? k + 3 : k;
+        P->frow[k] = neg ? k : k + 3;
+        P->omin[k] = P->rmin[k] = TT_INF;
+        P->omax[k] = P->rmax[k] = -TT_INF;
+    }
+    P->tmin_min = TT_INF;
+    int finite = 1;
+    for (uint32_t i = 0; i < P->groups * PK_L; i++) {
+        const tt_wray *r = &rays[idx[i < n ? i : 0]];
+        P->ray[i] = r;
+        P->ox[i] = r->org[0];
+        P->oy[i] = r->org[1];
+        P->oz[i] = r->org[2];
+        P->rx[i] = r->rcp[0];
+        P->ry[i] = r->rcp[1];
+        P->rz[i] = r->rcp[2];
+        P->tmin[i] = r->tmin;
+        P->t[i] = r->tmax;
+        P->u[i] = P->v[i] = 0.0f;
+        P->prim[i] = TT_INVALID_ID;
+        P->sx[i] = r->sx;
+        P->sy[i] = r->sy;
+        P->sz[i] = r->sz;
+        if (i < n) {
+            for (int k = 0; k < 3; k++) {
+                if (r->org[k] < P->omin[k]) P->omin[k] = r->org[k];
+                if (r->org[k] > P->omax[k]) P->omax[k] = r->org[k];
+                if (r->rcp[k] < P->rmin[k]) P->rmin[k] = r->rcp[k];
+                if (r->rcp[k] > P->rmax[k]) P->rmax[k] = r->rcp[k];
+                finite &= isfinite(r->rcp[k]);
+            }
+            if (r->tmin < P->tmin_min) P->tmin_min = r->tmin;
+        }
+    }
+    P->ia = finite;
+    for (uint32_t g = 0; g < P->groups; g++) {
+        const uint32_t lanes = n - g * PK_L >= PK_L ? PK_L : n - g * PK_L;
+        P->valid[g] = lanes == 32 ? ~0u : (1u << lanes) - 1u;
+        P->done[g] = 0;
+        const tt_wray *r0 = P->ray[g * PK_L];
+        int8_t perm = (int8_t)(r0->kx * 9 + r0->ky * 3 + r0->kz);
+        for (uint32_t l = 1; l < lanes; l++) {
+            const tt_wray *r = P->ray[g * PK_L + l];
+            if (r->kx != r0->kx || r->ky != r0->ky || r->kz != r0->kz) perm = -1;
+        }
+        P->perm[g] = perm;
+    }
+}
+
+/* The entry point: rays[0..n) (n <= TT_PACKET_MAX) split by octant, each
+ * octant's rays a packet (or ray by ray when few); closest hits into hits
+ * (any = 0) or occlusion bytes into occ (any = 1). */
+void TT_VARIANT(RTC_FN(tt_rtc_packet))(const tt_rtc *t, const tt_wray *rays, uint32_t n, int any,
+                                       tt_hit *hits, uint8_t *occ, tt_packet_stats *stats)
+{
+    uint32_t idx[8][PK_N], cnt[8] = {0};
+    for (uint32_t i = 0; i < n; i++) {
+        const tt_wray *r = &rays[i];
+        const uint32_t o = (uint32_t)(r->rcp[0] < 0.0f) | (uint32_t)(r->rcp[1] < 0.0f) << 1 |
+                           (uint32_t)(r->rcp[2] < 0.0f) << 2;
+        idx[o][cnt[o]++] = i;
+    }
+    TT_COUNT(stats, rays.rays, n);
+    _Alignas(64) pk_rays P;
+    for (uint32_t o = 0; o < 8; o++) {
+        const uint32_t c = cnt[o];
+        if (!c) continue;
+        if (c < PK_MIN_RAYS) {
+            for (uint32_t j = 0; j < c; j++) {
+                const uint32_t i = idx[o][j];
+                tt_hit h;
+#if TT_STATS
+                const uint64_t before = stats->rays.rays;
+                const int r = RTC_SINGLE_STATS(t, &rays[i], any, &h, &stats->rays);
+                stats->rays.rays = before; /* counted once above */
+                TT_COUNT(stats, fallback_rays, 1);
+#else
+                const int r = RTC_SINGLE(t, &rays[i], any, &h, NULL);
+#endif
+                if (any) occ[i] = (uint8_t)(r != 0);
+                else hits[i] = h;
+            }
+            continue;
+        }
+        TT_COUNT(stats, packets, 1);
+        TT_VARIANT(RTC_FN(rtc_pk_load))(&P, rays, idx[o], c);
+        switch (t->S) {
+        case 16:
+            if (any) TT_VARIANT(RTC_FN(rtc_pk_walk))(t, 16, 1, &P, stats);
+            else TT_VARIANT(RTC_FN(rtc_pk_walk))(t, 16, 0, &P, stats);
+            break;
+        case 8:
+            if (any) TT_VARIANT(RTC_FN(rtc_pk_walk))(t, 8, 1, &P, stats);
+            else TT_VARIANT(RTC_FN(rtc_pk_walk))(t, 8, 0, &P, stats);
+            break;
+        default:
+            if (any) TT_VARIANT(RTC_FN(rtc_pk_walk))(t, t->S, 1, &P, stats);
+            else TT_VARIANT(RTC_FN(rtc_pk_walk))(t, t->S, 0, &P, stats);
+            break;
+        }
+        for (uint32_t j = 0; j < c; j++) {
+            const uint32_t i = idx[o][j];
+            if (any) {
+                occ[i] = (uint8_t)(P.done[j / PK_L] >> (j % PK_L) & 1u);
+            } else {
+                tt_hit *h = &hits[i];
+                h->prim = P.prim[j];
+                h->t = P.prim[j] == TT_INVALID_ID ? TT_INF : P.t[j];
+                h->u = P.u[j];
+                h->v = P.v[j];
+            }
+        }
+    }
+}

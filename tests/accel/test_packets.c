@@ -1,0 +1,328 @@
+/* Packets (tt_batch_options.packets, the vtable's packet entries) give ray
+ * by ray exactly what the single-ray calls give: the same triangle, t, u
+ * and v bit for bit, and the same occlusion, for every structure x every
+ * ISA this binary and CPU have x TT_PACKETS_ON / OFF / AUTO x packet sizes
+ * (16 x 16 tiles, runs of 1..256 rays), on the shared views' primary and
+ * shadow rays and on hostile rays: one valid ray per packet (the others
+ * bad), mixed direction signs in one packet, axis-parallel directions,
+ * empty and finite intervals, origins inside the scene. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "accel/accel.h"
+#include "core/isa.h"
+#include "check.h"
+
+#define SIZE 128 /* view images SIZE x SIZE: 64 tiles */
+
+/* small scenes: bruteforce too, and every packet size; big scenes: the
+ * engines, fewer direct packet sizes (CPU time) */
+static int g_small;
+
+static uint32_t next(uint32_t *x)
+{
+    *x ^= *x << 13;
+    *x ^= *x >> 17;
+    *x ^= *x << 5;
+    return *x;
+}
+static float unit(uint32_t *x) { return (float)(next(x) >> 8) * (1.0f / 16777216.0f); }
+
+/* n rays against the single-ray answers, through the batch with `mode`,
+ * cut as `width` (tiles) or `chunk`. */
+static size_t compare_batch(const tt_accel *a, const tt_ray *rays, size_t n, uint32_t mode,
+                            uint32_t width, uint32_t chunk, const tt_hit *one,
+                            const uint8_t *occ_one, const tt_status *st_one)
+{
+    tt_hit *many = malloc(n * sizeof *many);
+    uint8_t *occ = malloc(n);
+    if (!many || !occ) exit(1);
+    tt_batch_options bo;
+    tt_batch_options_default(&bo);
+    bo.packets = mode;
+    bo.image_width = width;
+    bo.chunk = chunk;
+    memset(many, 0xAB, n * sizeof *many);
+    memset(occ, 0xAB, n);
+    tt_intersect(a, rays, n, many, NULL, &bo);
+    tt_occluded(a, rays, n, occ, NULL, &bo);
+    size_t differ = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (st_one[i] != TT_OK) {
+            if (many[i].prim != TT_INVALID_ID || occ[i] != 0) differ++;
+            continue;
+        }
+        if (memcmp(&many[i], &one[i], sizeof(tt_hit)) != 0 || occ[i] != occ_one[i]) {
+            if (differ < 3)
+                fprintf(stderr, "  ray %zu: batch prim %u t %.9g, single prim %u t %.9g; occ %d %d\n",
+                        i, many[i].prim, (double)many[i].t, one[i].prim, (double)one[i].t, occ[i],
+                        occ_one[i]);
+            differ++;
+        }
+    }
+    free(many);
+    free(occ);
+    return differ;
+}
+
+/* The vtable's packet entries called directly on runs of n rays. */
+static size_t compare_direct(const tt_accel *a, const tt_ray *rays, size_t count, uint32_t n,
+                             const tt_hit *one, const uint8_t *occ_one, const tt_status *st_one)
+{
+    const tt_accel_vtable *vt = a->vt;
+    if (!vt->intersect_packet) return 0;
+    tt_wray w[TT_PACKET_MAX];
+    tt_hit h[TT_PACKET_MAX];
+    uint8_t o[TT_PACKET_MAX];
+    size_t idx[TT_PACKET_MAX], differ = 0;
+    for (size_t i = 0; i < count;) {
+        uint32_t k = 0;
+        for (; i < count && k < n; i++) {
+            if (st_one[i] != TT_OK) continue;
+            tt_wray_init(&w[k], rays[i].org, rays[i].dir, rays[i].tmin, rays[i].tmax);
+            idx[k++] = i;
+        }
+        vt->intersect_packet(a, w, k, h);
+        vt->occluded_packet(a, w, k, o);
+        for (uint32_t j = 0; j < k; j++)
+            if (memcmp(&h[j], &one[idx[j]], sizeof(tt_hit)) != 0 || o[j] != occ_one[idx[j]])
+                differ++;
+        tt_packet_stats ps;
+        memset(&ps, 0, sizeof ps);
+        vt->intersect_packet_stats(a, w, k, h, &ps);
+        for (uint32_t j = 0; j < k; j++)
+            if (memcmp(&h[j], &one[idx[j]], sizeof(tt_hit)) != 0) differ++;
+        vt->occluded_packet_stats(a, w, k, o, &ps);
+        for (uint32_t j = 0; j < k; j++)
+            if (o[j] != occ_one[idx[j]]) differ++;
+        CHECK(ps.rays.rays == 2u * k);
+    }
+    return differ;
+}
+
+static void check_rays(const tt_accel *a, const tt_ray *rays, size_t n, uint32_t width,
+                       const char *what)
+{
+    tt_hit *one = malloc(n * sizeof *one);
+    uint8_t *occ_one = malloc(n);
+    tt_status *st = malloc(n * sizeof *st);
+    if (!one || !occ_one || !st) exit(1);
+    for (size_t i = 0; i < n; i++) {
+        int o = 0;
+        st[i] = tt_intersect1(a, &rays[i], &one[i]);
+        tt_occluded1(a, &rays[i], &o);
+        occ_one[i] = (uint8_t)o;
+    }
+    static const uint32_t modes[] = {TT_PACKETS_ON, TT_PACKETS_AUTO, TT_PACKETS_OFF};
+    static const char *mode_name[] = {"on", "auto", "off"};
+    for (int m = 0; m < 3; m++) {
+        size_t d = compare_batch(a, rays, n, modes[m], width, 0, one, occ_one, st);
+        CHECK_MSG(d == 0, "%s %s packets %s, tiles of width %u: %zu rays differ",
+                  tt_accel_name(a), what, mode_name[m], width, d);
+        d = compare_batch(a, rays, n, modes[m], 0, 0, one, occ_one, st);
+        CHECK_MSG(d == 0, "%s %s packets %s, runs: %zu rays differ", tt_accel_name(a), what,
+                  mode_name[m], d);
+    }
+    static const uint32_t sizes[] = {1, 2, 5, 16, 33, 64, 100, 256};
+    for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; s++) {
+        if (!g_small && sizes[s] != 1 && sizes[s] != 33 && sizes[s] != 256) continue;
+        size_t d = compare_direct(a, rays, n, sizes[s], one, occ_one, st);
+        CHECK_MSG(d == 0, "%s %s: packets of %u rays: %zu results differ", tt_accel_name(a),
+                  what, sizes[s], d);
+    }
+    free(one);
+    free(occ_one);
+    free(st);
+}
+
+/* Primary and shadow rays of a view, SIZE x SIZE. */
+static tt_ray *view_rays(const tt_accel *ref, const tt_scene *scene, const tt_camera *cam,
+                         size_t *n_shadow, tt_ray **shadow)
+{
+    const size_t n = (size_t)SIZE * SIZE;
+    tt_ray *rays = malloc(n * sizeof *rays);
+    tt_ray *sh = malloc(n * sizeof *sh);
+    if (!rays || !sh) exit(1);
+    if (tt_camera_rays(cam, SIZE, SIZE, rays) != TT_OK) exit(1);
+    size_t k = 0;
+    for (size_t i = 0; i < n; i++) {
+        tt_hit h;
+        tt_intersect1(ref, &rays[i], &h);
+        if (h.prim != TT_INVALID_ID && tt_shadow_ray(scene, cam, &rays[i], &h, &sh[k]) == TT_OK)
+            k++;
+    }
+    *n_shadow = k;
+    *shadow = sh;
+    return rays;
+}
+
+/* Hostile rays in tiles of 16 x 16: tile kinds by tile index. */
+static tt_ray *hostile_rays(const tt_scene *scene, const tt_camera *cam, size_t *n_out)
+{
+    const size_t n = (size_t)SIZE * SIZE;
+    tt_ray *rays = malloc(n * sizeof *rays);
+    if (!rays) exit(1);
+    if (tt_camera_rays(cam, SIZE, SIZE, rays) != TT_OK) exit(1);
+    float lo[3], hi[3];
+    tt_scene_bounds(scene, lo, hi);
+    uint32_t seed = 777;
+    for (size_t i = 0; i < n; i++) {
+        tt_ray *r = &rays[i];
+        const size_t x = i % SIZE, y = i / SIZE, tile = (y / 16) * (SIZE / 16) + x / 16;
+        const size_t lane = (y % 16) * 16 + x % 16;
+        switch (tile % 6) {
+        case 0: /* one valid ray per tile: the others break the contract */
+            if (lane != tile % 256) r->tmin = -1.0f;
+            break;
+        case 1: /* mixed direction signs: random directions, shared origin */
+            for (int k = 0; k < 3; k++) r->dir[k] = 2.0f * unit(&seed) - 1.0f;
+            break;
+        case 2: /* from inside the scene, coherent directions */
+            for (int k = 0; k < 3; k++) r->org[k] = lo[k] + (hi[k] - lo[k]) * (0.3f + 0.4f * unit(&seed));
+            break;
+        case 3: /* empty and finite intervals */
+            r->tmin = unit(&seed);
+            r->tmax = (lane % 3 == 0) ? r->tmin : r->tmin + 2.0f * unit(&seed);
+            if (lane % 5 == 0) r->tmax = 0.5f * r->tmin;
+            break;
+        case 4: /* axis-parallel and signed-zero components */
+            if (lane % 2) r->dir[lane % 3] = (lane % 4 == 1) ? -0.0f : 0.0f;
+            if (lane % 7 == 0) r->dir[0] = r->dir[1] = 0.0f;
+            if (r->dir[0] == 0.0f && r->dir[1] == 0.0f && r->dir[2] == 0.0f) r->dir[2] = 1.0f;
+            break;
+        default: /* inside the scene, random directions */
+            for (int k = 0; k < 3; k++) {
+                r->org[k] = lo[k] + (hi[k] - lo[k]) * unit(&seed);
+                r->dir[k] = 2.0f * unit(&seed) - 1.0f;
+            }
+            break;
+        }
+    }
+    *n_out = n;
+    return rays;
+}
+
+
+/* tt_render with packets off, on and auto (and the counting pass): the
+ * same hit buffer (triangle, t, shadow flag of every pixel), and the
+ * summary says whether packets were traced and counts them. */
+static void render_modes(tt_context *ctx, const tt_scene *scene, const tt_accel *a,
+                         const tt_camera *cam, const char *what)
+{
+    static const uint32_t modes[] = {TT_PACKETS_OFF, TT_PACKETS_ON, TT_PACKETS_AUTO};
+    uint8_t *first = NULL;
+    size_t first_size = 0;
+    for (int m = 0; m < 3; m++)
+        for (int stats = 0; stats < 2; stats++) {
+            tt_render_options ro;
+            tt_render_options_default(&ro);
+            ro.width = ro.height = 100; /* tiles cut by the border too */
+            ro.keep_hits = 1;
+            ro.stats = stats;
+            ro.packets = modes[m];
+            tt_render_result *res = NULL;
+            CHECK_OK(ctx, tt_render(ctx, scene, a, cam, &ro, &res));
+            if (!res) continue;
+            size_t size = 0;
+            const uint8_t *hits = tt_render_hits(res, &size);
+            const tt_render_summary *s = tt_render_get_summary(res);
+            const int has = a->vt->intersect_packet != NULL;
+            CHECK_MSG(s->packets == (has && modes[m] != TT_PACKETS_OFF), "%s: summary.packets %d",
+                      what, s->packets);
+            if (stats && s->packets)
+                CHECK_MSG(s->primary_packets.packets + s->primary_packets.fallback_rays > 0,
+                          "%s: no packet counts", what);
+            if (!first) {
+                first = malloc(size);
+                if (!first) exit(1);
+                memcpy(first, hits, size);
+                first_size = size;
+            } else {
+                CHECK_MSG(size == first_size && memcmp(first, hits, size) == 0,
+                          "%s: render packets mode %u stats %d: hit buffer differs", what,
+                          modes[m], stats);
+            }
+            tt_render_result_destroy(res);
+        }
+    free(first);
+    tt_render_options ro;
+    tt_render_options_default(&ro);
+    ro.packets = 7;
+    tt_render_result *res = NULL;
+    CHECK(tt_render(ctx, scene, a, cam, &ro, &res) == TT_ERR_INVALID_ARGUMENT);
+}
+
+static void scene_view(tt_context *ctx, const char *file, const char *view, int small)
+{
+    g_small = small;
+    tt_scene *scene = tt_test_load_scene(ctx, file);
+    tt_camera cam;
+    tt_test_view(ctx, view, &cam);
+    tt_accel *bf = tt_test_build_default(ctx, scene, small ? "bruteforce" : "rtree");
+    size_t n_shadow = 0, n_hostile = 0;
+    tt_ray *shadow = NULL;
+    tt_ray *primary = view_rays(bf, scene, &cam, &n_shadow, &shadow);
+    tt_ray *hostile = hostile_rays(scene, &cam, &n_hostile);
+    static const char *names[] = {"rtree", "kdtree", "bruteforce"};
+    for (size_t s = 0; s < sizeof names / sizeof names[0]; s++) {
+        if (!tt_test_has_accel(names[s])) continue;
+        if (!small && strcmp(names[s], "bruteforce") == 0) continue;
+        for (int isa = TT_ISA_FIRST; isa <= TT_ISA_LAST; isa++) {
+            if (!tt_isa_supported((tt_isa)isa)) continue;
+            if (strcmp(names[s], "bruteforce") == 0 && isa != TT_ISA_FIRST) continue;
+            tt_build_options o;
+            tt_build_options_default(&o);
+            o.accel = names[s];
+            o.isa = (tt_isa)isa;
+            tt_accel *a = NULL;
+            REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &o, &a));
+            char what[128];
+            snprintf(what, sizeof what, "%s %s primary", view, tt_isa_name((tt_isa)isa));
+            check_rays(a, primary, (size_t)SIZE * SIZE, SIZE, what);
+            snprintf(what, sizeof what, "%s %s shadow", view, tt_isa_name((tt_isa)isa));
+            check_rays(a, shadow, n_shadow, 0, what);
+            snprintf(what, sizeof what, "%s %s hostile", view, tt_isa_name((tt_isa)isa));
+            check_rays(a, hostile, n_hostile, SIZE, what);
+            snprintf(what, sizeof what, "%s %s %s render", tt_accel_name(a), view,
+                     tt_isa_name((tt_isa)isa));
+            render_modes(ctx, scene, a, &cam, what);
+            tt_accel_destroy(a);
+        }
+    }
+    free(primary);
+    free(shadow);
+    free(hostile);
+    tt_accel_destroy(bf);
+    tt_scene_destroy(scene);
+}
+
+/* A bad packets option is refused by name. */
+static void bad_option(tt_context *ctx)
+{
+    tt_scene *scene = tt_test_load_scene(ctx, "cornell_box.obj");
+    tt_accel *a = tt_test_build_default(ctx, scene, "rtree");
+    tt_ray r = {{0.0f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, INFINITY};
+    tt_hit h;
+    tt_batch_options bo;
+    tt_batch_options_default(&bo);
+    CHECK(bo.packets == TT_PACKETS_AUTO);
+    bo.packets = 3;
+    CHECK(tt_intersect(a, &r, 1, &h, NULL, &bo) == TT_ERR_INVALID_ARGUMENT);
+    CHECK(strstr(tt_context_last_error(ctx), "packets") != NULL);
+    tt_accel_destroy(a);
+    tt_scene_destroy(scene);
+}
+
+int main(void)
+{
+    tt_context *ctx = tt_test_context();
+    bad_option(ctx);
+    scene_view(ctx, "bun_zipper_res4.ply", "bunny_res4:main", 1);
+    scene_view(ctx, "cornell_box.obj", "cornell:main", 1);
+    scene_view(ctx, "bun_zipper.ply", "bunny:main", 0);
+    scene_view(ctx, "sibenik.obj", "sibenik:main", 0);
+    scene_view(ctx, "conference.ply", "conference:main", 0);
+    tt_context_destroy(ctx);
+    return tt_test_finish();
+}
