@@ -68,7 +68,8 @@ static int run_bench(const bench_options *o, FILE *err)
         fprintf(err, "treetrace bench: out of memory\n");
         goto done_scenes;
     }
-    if (bench_run_all(ctx, o, &scenes, &m, out, &res, err) != 0) goto done_matrix;
+    /* the papers' tables (renders); none with --only E */
+    if (m.count && bench_run_all(ctx, o, &scenes, &m, out, &res, err) != 0) goto done_matrix;
     /* the engine table: batch calls against Embree's own loops, not renders */
     bench_yard yard;
     memset(&yard, 0, sizeof yard);
@@ -78,6 +79,7 @@ static int run_bench(const bench_options *o, FILE *err)
         goto done_matrix;
     }
     res.engine = (o->tables & BENCH_E1) ? &yard : NULL;
+    if (!m.count) res.threads = yard.threads;
     char path[4200];
     int bad = 0;
     if (m.count) {

@@ -191,8 +191,7 @@ static void pct(FILE *f, uint64_t a, uint64_t n)
         fprintf(f, " %.4f%%", 100.0 * (double)a / (double)n);
 }
 
-static void build_table(FILE *f, const bench_yard *y, const yard_view *v,
-                        const bench_engine_config *cf, size_t nc)
+static void build_table(FILE *f, const yard_view *v, const bench_engine_config *cf, size_t nc)
 {
     fprintf(f, "| builds, memory, answers | isa | build [s] | x Embree | memory [MB] | x Embree | "
                "same as Embree: primary / shadow / AO | = bruteforce (sampled) | = default R-tree "
@@ -200,9 +199,9 @@ static void build_table(FILE *f, const bench_yard *y, const yard_view *v,
                "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (int s = 0; s < 2 && v->embree.ok; s++) {
         fprintf(f, "| Embree, %s flags, medium quality | - |", s ? "ROBUST" : "default");
-        bench_cell_num(f, v->embree.build_s[s], "%.3f");
+        bench_cell_num(f, v->embree.build_s[s], "%#.3g");
         bench_cell_num(f, over(v->embree.build_s[s], v->embree.build_s[0]), "%.2fx");
-        bench_cell_num(f, (double)v->embree.memory_bytes[s] / 1048576.0, "%.1f");
+        bench_cell_num(f, (double)v->embree.memory_bytes[s] / 1048576.0, "%#.3g");
         bench_cell_num(f, over((double)v->embree.memory_bytes[s], (double)v->embree.memory_bytes[0]),
                        "%.2fx");
         fputs(" - | - | - | - | - | - |\n", f);
@@ -215,9 +214,9 @@ static void build_table(FILE *f, const bench_yard *y, const yard_view *v,
             continue;
         }
         fprintf(f, " %s |", tt_isa_name(r->isa));
-        bench_cell_num(f, r->build_s, "%.3f");
+        bench_cell_num(f, r->build_s, "%#.3g");
         bench_cell_num(f, v->embree.ok ? over(r->build_s, v->embree.build_s[0]) : NAN, "%.2fx");
-        bench_cell_num(f, (double)r->memory_bytes / 1048576.0, "%.1f");
+        bench_cell_num(f, (double)r->memory_bytes / 1048576.0, "%#.3g");
         bench_cell_num(f, v->embree.ok ? over((double)r->memory_bytes,
                                               (double)v->embree.memory_bytes[0])
                                        : NAN,
@@ -251,7 +250,6 @@ static void build_table(FILE *f, const bench_yard *y, const yard_view *v,
         bench_cell_num(f, r->sah_cost, "%.1f");
         fputc('\n', f);
     }
-    (void)y;
     fputc('\n', f);
 }
 
@@ -354,6 +352,6 @@ void bench_report_engine(const bench_report *rp)
         if (!v->embree.ok) fprintf(f, "Embree: %s.\n\n", v->embree.error);
         single_table(f, v, cf, nc);
         packet_table(f, v, cf, nc);
-        build_table(f, y, v, cf, nc);
+        build_table(f, v, cf, nc);
     }
 }

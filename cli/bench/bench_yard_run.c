@@ -329,6 +329,9 @@ static void compare_answers(view_work *w, yard_view *v, int embree_ok)
 
 static void timed_rounds(view_work *w, yard_view *v, int embree_ok)
 {
+#ifndef TT_HAVE_EMBREE
+    (void)embree_ok; /* no Embree side in this build */
+#endif
     for (int round = 0; round < w->o->repeat; round++) {
         for (int k = 0; k < YARD_KINDS; k++) {
 #ifdef TT_HAVE_EMBREE
