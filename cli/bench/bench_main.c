@@ -80,6 +80,7 @@ static int run_bench(const bench_options *o, FILE *err)
     }
     res.engine = (o->tables & BENCH_E1) ? &yard : NULL;
     if (!m.count) res.threads = yard.threads;
+    res.total_s += yard.total_s;
     char path[4200];
     int bad = 0;
     if (m.count) {

@@ -199,9 +199,9 @@ static void build_table(FILE *f, const yard_view *v, const bench_engine_config *
                "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (int s = 0; s < 2 && v->embree.ok; s++) {
         fprintf(f, "| Embree, %s flags, medium quality | - |", s ? "ROBUST" : "default");
-        bench_cell_num(f, v->embree.build_s[s], "%#.3g");
+        bench_cell_num(f, v->embree.build_s[s], "%.3g");
         bench_cell_num(f, over(v->embree.build_s[s], v->embree.build_s[0]), "%.2fx");
-        bench_cell_num(f, (double)v->embree.memory_bytes[s] / 1048576.0, "%#.3g");
+        bench_cell_num(f, (double)v->embree.memory_bytes[s] / 1048576.0, "%.3g");
         bench_cell_num(f, over((double)v->embree.memory_bytes[s], (double)v->embree.memory_bytes[0]),
                        "%.2fx");
         fputs(" - | - | - | - | - | - |\n", f);
@@ -214,9 +214,9 @@ static void build_table(FILE *f, const yard_view *v, const bench_engine_config *
             continue;
         }
         fprintf(f, " %s |", tt_isa_name(r->isa));
-        bench_cell_num(f, r->build_s, "%#.3g");
+        bench_cell_num(f, r->build_s, "%.3g");
         bench_cell_num(f, v->embree.ok ? over(r->build_s, v->embree.build_s[0]) : NAN, "%.2fx");
-        bench_cell_num(f, (double)r->memory_bytes / 1048576.0, "%#.3g");
+        bench_cell_num(f, (double)r->memory_bytes / 1048576.0, "%.3g");
         bench_cell_num(f, v->embree.ok ? over((double)r->memory_bytes,
                                               (double)v->embree.memory_bytes[0])
                                        : NAN,
@@ -311,7 +311,7 @@ void bench_report_engine(const bench_report *rp)
             "every side traces the same arrays.\n"
             "- **Ours.** `tt_intersect` with `image_width` (16x16 tiles) and the eye's "
             "`tt_accel_locate` as start hint; `tt_occluded` for shadow and AO rays. Default "
-            "options but `packets`: auto (the default), off, on.\n"
+            "options: `packets` auto; off and on too where a structure offers packets.\n"
             "- **Embree.** %s, medium build quality, the scene's mesh as loaded. Single rays: "
             "`rtcIntersect1` over the same 16x16 tiles, `rtcOccluded1` over runs of 256 rays; "
             "with the default scene flags (**the headline column**) and with "
@@ -319,8 +319,8 @@ void bench_report_engine(const bench_report *rp)
             "`rtcOccluded8`/`16` on 8 / 16 consecutive rays, coherent flag, default flags. AO: "
             "single rays only. The library's Embree wrapper (robust, with its own checks) is not "
             "used here; it stays for the ray-by-ray agreement tests.\n"
-            "- **Timing.** %d interleaved rounds (each round times every side and structure once "
-            "per ray kind, Embree first); each figure is the fastest of its rounds, after an "
+            "- **Timing.** %d interleaved rounds (each round times, per ray kind, Embree's single "
+            "rays, every structure and mode, then Embree's other sides); each figure is the fastest of its rounds, after an "
             "untimed pass that also checks the answers. Mrays/s: rays over that time. "
             "*x Embree* is ours over Embree's rate on the same rays: above 1 is faster.\n"
             "- **Build** is the fastest of %d builds (ours: `tt_accel_build`; Embree: "
