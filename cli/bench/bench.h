@@ -78,9 +78,11 @@ typedef struct bench_options {
     double budget_s; /* timed repeats are cut so one run stays near this */
     tt_device device; /* TT_DEVICE_GPU: the GPU's configurations again on it */
     /* The engine table (E, bench_yard.h): its structures are built this
-     * many times (the minimum is reported), its rounds are `repeat`, and
-     * each primary hit casts ao_samples ambient-occlusion rays. */
+     * many times (the minimum is reported), it times `rounds` interleaved
+     * rounds (5 like raybench; --repeat sets it too), and each primary hit
+     * casts ao_samples ambient-occlusion rays. */
     int builds;
+    int rounds;
     int ao_samples;
 } bench_options;
 

@@ -44,8 +44,8 @@ void bench_print_help(FILE *f)
           "  --out DIR         output folder (default: bench/results-YYYY-MM-DD)\n"
           "  --threads N       render threads (default: OpenMP's default)\n"
           "  --repeat K        timed passes per render after the warm-up (default 3;\n"
-          "                    fewer when a pass is slow, see --budget); the engine\n"
-          "                    table's interleaved rounds\n"
+          "                    fewer when a pass is slow, see --budget); also the\n"
+          "                    engine table's interleaved rounds (default 5)\n"
           "  --builds N        the engine table builds each structure N times and\n"
           "                    reports the fastest (default 3, 1 with --quick)\n"
           "  --ao N            ambient-occlusion rays per primary hit in the engine\n"
@@ -93,6 +93,7 @@ static void set_defaults(bench_options *o, int quick)
     o->all_views = !quick;
     o->heatmaps = 1;
     o->builds = quick ? 1 : 3;
+    o->rounds = quick ? 1 : 5;
     o->ao_samples = YARD_AO_DEFAULT_SAMPLES;
     if (quick) {
         const int q[] = {1, 4, 12};
@@ -291,6 +292,7 @@ int bench_parse_options(int argc, char **argv, bench_options *out, FILE *err)
                         value);
                 goto fail;
             }
+            out->rounds = out->repeat;
         } else if (strcmp(name, "--builds") == 0) {
             if (parse_int(value, 1, 100, &out->builds)) {
                 fprintf(err, "treetrace bench: --builds: expected a count 1..100, got '%s'\n",

@@ -6,7 +6,7 @@
  *      answers are compared with Embree's, with the default R-tree's and, on
  *      a sample, with bruteforce's; packets off and on must answer as auto;
  *      a counting pass gives per-ray node and triangle counts;
- *   3. timing: o->repeat interleaved rounds (each round times every side
+ *   3. timing: o->rounds interleaved rounds (each round times every side
  *      and structure once per ray kind); the minimum of each is kept. */
 #include <math.h>
 #include <omp.h>
@@ -332,7 +332,7 @@ static void timed_rounds(view_work *w, yard_view *v, int embree_ok)
 #ifndef TT_HAVE_EMBREE
     (void)embree_ok; /* no Embree side in this build */
 #endif
-    for (int round = 0; round < w->o->repeat; round++) {
+    for (int round = 0; round < w->o->rounds; round++) {
         for (int k = 0; k < YARD_KINDS; k++) {
 #ifdef TT_HAVE_EMBREE
             if (embree_ok) {
@@ -496,7 +496,7 @@ int bench_yard_run(tt_context *ctx, const bench_options *o, const bench_scene_li
 {
     memset(out, 0, sizeof *out);
     out->size = o->rtree_size;
-    out->rounds = o->repeat;
+    out->rounds = o->rounds;
     out->builds = o->builds;
     out->ao_samples = o->ao_samples;
     out->threads = tt_context_threads(ctx) > 0 ? tt_context_threads(ctx) : omp_get_max_threads();
