@@ -289,7 +289,7 @@ void cli_accel_args_help(FILE *out)
             "                           build in parallel with the threads (default nlogn)\n"
             "  --dmin N|none|auto       sparse boxes every N levels, or none (default auto:\n"
             "                           none for htr, which reads no boxes, else 4)\n"
-            "  --ct F, --ci F           SAH traversal and intersection costs (default 1, 0.5)\n"
+            "  --ct F, --ci F           SAH traversal and intersection costs (default 1, 0.2)\n"
             "  --empty-bonus F          SAH bonus for cutting off empty space, in [0, 1):\n"
             "                           such a split costs (1 - F) x (default 0.2)\n"
             "  --max-depth N            maximum depth, 0 = automatic 8 + 1.3 log2 N (default 0)\n"

@@ -38,7 +38,10 @@ int main(int argc, char **argv)
     printf("%s: %zu triangles, %s on %s; hit triangle %u at t = %g, occluded %d\n", path,
            tt_scene_triangle_count(scene), tt_accel_name(acc), tt_isa_name(tt_accel_isa(acc)),
            hit.prim, hit.t, occluded);
-    const int ok = (hit.prim != TT_INVALID_ID) == occluded;
+    /* the ray starts 1 above the box and ends below it: it must hit the
+     * scene within the box (a structure that always misses fails here) */
+    const int ok = hit.prim < tt_scene_triangle_count(scene) && occluded && hit.t >= 1.0f &&
+                   hit.t <= hi[1] - lo[1] + 1.0f;
     tt_accel_destroy(acc);
     tt_scene_destroy(scene);
     tt_context_destroy(ctx);

@@ -12,7 +12,7 @@
  *   bench_csv.c       results.csv
  *   bench_report.c    report.md (with bench_paper.c: the papers' numbers;
  *                     bench_report_gpu.c: the GPU section with --device gpu)
- *   bench_plot.c      the d_min line plots (PNG, own raster code + font)
+ *   bench_figures.c   the figures: python3 -m treetrace.plots (matplotlib)
  *   bench_progress.c  progress on stderr
  *   bench_machine.c   CPU, cores, compiler, date for the report */
 #ifndef TT_CLI_BENCH_H
@@ -269,24 +269,18 @@ typedef struct bench_havran_row {
 extern const bench_havran_row bench_havran_table1[];
 extern const size_t bench_havran_table1_count;
 
-/* ------------------------------------------------------------------ plots */
+/* ---------------------------------------------------------------- figures */
 
-typedef struct bench_series {
-    const char *label;
-    const double *x, *y;
-    size_t n;
-    uint8_t rgb[3];
-} bench_series;
-
-/* A line plot with axes, ticks and a legend, drawn into an RGB buffer and
- * written with tt_write_png. */
-tt_status bench_plot_png(tt_context *ctx, const char *path, const char *title, const char *xlabel,
-                         const char *ylabel, const bench_series *series, size_t count,
-                         uint32_t width, uint32_t height);
-
-/* 5x7 bitmap glyph of c (upper-cased), rows top to bottom, 5 low bits each;
- * unknown characters draw as a box. */
-const uint8_t *bench_glyph(char c);
+/* The figures are drawn by the Python package (python3 -m treetrace.plots
+ * OUT: matplotlib, PDF + PNG) after results.csv and report.md are written.
+ * The interpreter that can (python3 with matplotlib and the package),
+ * probed once; NULL when there is none (the figures are optional). */
+const char *bench_figures_python(void);
+/* Draws them; without Python prints how to draw them later and returns 0;
+ * -1 when the plotting module failed. */
+int bench_figures_draw(const char *out_dir, FILE *err);
+/* The sentence saying how to draw them later (for the report and stderr). */
+void bench_figures_hint(FILE *f, const char *out_dir);
 
 /* --------------------------------------------------------------- progress */
 

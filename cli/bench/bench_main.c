@@ -1,5 +1,5 @@
-/* `treetrace bench`: options -> scenes -> matrix -> runs -> results.csv and
- * report.md. */
+/* `treetrace bench`: options -> scenes -> matrix -> runs -> results.csv,
+ * report.md and the figures (python3 -m treetrace.plots). */
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
@@ -92,6 +92,7 @@ static int run_bench(const bench_options *o, FILE *err)
         bad |= bench_yard_write_csv(path, &scenes, &yard, err);
     }
     bad |= bench_write_report(ctx, out, o, &scenes, &m, &res, err);
+    if (!bad) bad |= bench_figures_draw(out, err);
     if (!bad) {
         size_t failed = 0;
         for (size_t i = 0; i < res.count; i++)

@@ -200,7 +200,9 @@ static void havran(ctx *c, const bench_options *o, int default_dmin)
             o->heatmaps);
     }
     if (t & BENCH_H3) {
+        /* HTR and SEQ without boxes: Figure 3's constant lines, all four traversals */
         run(c, sz, bench_kdtree_build(TT_KD_NLOGN, -1, TT_KD_HTR), BENCH_PRIMARY, BENCH_H3, 0);
+        run(c, sz, bench_kdtree_build(TT_KD_NLOGN, -1, TT_KD_SEQ), BENCH_PRIMARY, BENCH_H3, 0);
         for (int i = 0; i < o->dmin_count; i++) {
             run(c, sz, bench_kdtree_build(TT_KD_NLOGN, o->dmins[i], TT_KD_BTR), BENCH_PRIMARY,
                 BENCH_H3, 0);

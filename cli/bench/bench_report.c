@@ -260,6 +260,22 @@ static void heatmaps(const bench_report *rp)
     fprintf(f, "\n");
 }
 
+/* Where the figures are: every figure (PDF + PNG) and the points any of
+ * them lacks with why, in figures.md, which treetrace.plots writes. */
+static void figures(const bench_report *rp)
+{
+    FILE *f = rp->f;
+    fprintf(f, "## Figures\n\n");
+    if (bench_figures_python()) {
+        fprintf(f, "Drawn from the CSVs with matplotlib by `python3 -m treetrace.plots` (PDF for "
+                   "papers, PNG): every figure, and every point a figure lacks with the reason, in "
+                   "[figures.md](figures.md).\n");
+    } else {
+        bench_figures_hint(f, rp->out_dir);
+        fprintf(f, ".\n");
+    }
+}
+
 int bench_write_report(tt_context *ctx, const char *out_dir, const bench_options *o,
                        const bench_scene_list *s, const bench_matrix *m, const bench_results *r,
                        FILE *err)
@@ -285,6 +301,7 @@ int bench_write_report(tt_context *ctx, const char *out_dir, const bench_options
     bench_report_engine(&rp);
     bench_report_gpu(&rp);
     heatmaps(&rp);
+    figures(&rp);
     int bad = ferror(f);
     if (fclose(f) != 0 || bad) {
         fprintf(err, "treetrace bench: error writing %s\n", path);

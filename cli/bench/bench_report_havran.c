@@ -1,6 +1,7 @@
 /* The report's Havran & Bittner parts: Table 1 (the four kd-tree traversals
  * with their per-ray counts) and Figure 3 (interior nodes and time against
- * d_min, as PNG plots and a table), with Embree's time beside ours. */
+ * d_min, as a table and the figure treetrace.plots draws), with Embree's time
+ * beside ours. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -86,7 +87,7 @@ static void table1(const bench_report *rp)
     fprintf(f, "\n");
 }
 
-/* Figure 3 for one scene and view: a table and two plots. */
+/* Figure 3 for one scene and view: a table and a link to its figure. */
 static void figure3_view(const bench_report *rp, size_t s, size_t v)
 {
     FILE *f = rp->f;
@@ -127,35 +128,21 @@ static void figure3_view(const bench_report *rp, size_t s, size_t v)
                  "%.0f");
         fprintf(f, "\n");
     }
-    char a[32] = "-", b[32] = "-", c[32] = "-";
+    char a[32] = "-", b[32] = "-", c[32] = "-", d[32] = "-", e[32] = "-";
+    const bench_result *seq = find_kd(rp, s, v, -1, TT_KD_SEQ);
     if (!isnan(per_ray(htr, 2))) snprintf(a, sizeof a, "%.2f", per_ray(htr, 2));
     if (bench_result_ok(htr)) bench_format_seconds(b, sizeof b, bench_time_s(htr));
     if (bench_result_ok(emb)) bench_format_seconds(c, sizeof c, bench_time_s(emb));
-    fprintf(f, "\nReference lines: HTR without boxes N_I %s, T_R %s; Embree T_R %s.\n\n", a, b, c);
+    if (!isnan(per_ray(seq, 2))) snprintf(d, sizeof d, "%.2f", per_ray(seq, 2));
+    if (bench_result_ok(seq)) bench_format_seconds(e, sizeof e, bench_time_s(seq));
+    fprintf(f, "\nReference lines: HTR without boxes N_I %s, T_R %s; SEQ without boxes N_I %s, "
+               "T_R %s; Embree T_R %s.\n\n", a, b, d, e, c);
 
-    /* HTR (the constant reference) first, so the curves are drawn over it */
-    const bench_series ns[3] = {{"HTR (no boxes)", x, ni[2], (size_t)n, {60, 160, 60}},
-                                {"BTR", x, ni[0], (size_t)n, {200, 40, 40}},
-                                {"SLTR", x, ni[1], (size_t)n, {40, 90, 200}}};
-    const bench_series ts[4] = {{"Embree", x, tm[3], (size_t)n, {120, 120, 120}},
-                                {"HTR (no boxes)", x, tm[2], (size_t)n, {60, 160, 60}},
-                                {"BTR", x, tm[0], (size_t)n, {200, 40, 40}},
-                                {"SLTR", x, tm[1], (size_t)n, {40, 90, 200}}};
-    char name[512], path[4700], title[160];
-    snprintf(name, sizeof name, "fig3-%s-%s-interior.png", sc->name, vn);
-    snprintf(path, sizeof path, "%s/%s", rp->out_dir, name);
-    snprintf(title, sizeof title, "%s:%s interior nodes per ray", sc->name, vn);
-    if (bench_plot_png(rp->ctx, path, title, "d_min", "N_I", ns, 3, 640, 400) == TT_OK)
-        fprintf(f, "![%s](%s)\n", title, name);
-    else
-        fprintf(rp->err, "treetrace bench: plot %s: %s\n", path, tt_context_last_error(rp->ctx));
-    snprintf(name, sizeof name, "fig3-%s-%s-time.png", sc->name, vn);
-    snprintf(path, sizeof path, "%s/%s", rp->out_dir, name);
-    snprintf(title, sizeof title, "%s:%s time per frame", sc->name, vn);
-    if (bench_plot_png(rp->ctx, path, title, "d_min", "T_R [s]", ts, 4, 640, 400) == TT_OK)
-        fprintf(f, "![%s](%s)\n\n", title, name);
-    else
-        fprintf(rp->err, "treetrace bench: plot %s: %s\n", path, tt_context_last_error(rp->ctx));
+    /* the figure: drawn from results.csv by python3 -m treetrace.plots */
+    if (bench_figures_python())
+        fprintf(f, "![%s:%s: interior nodes and time per frame against d_min](fig3-%s-%s.png)\n\n"
+                   "Figure: [PDF](fig3-%s-%s.pdf), [PNG](fig3-%s-%s.png).\n\n",
+                sc->name, vn, sc->name, vn, sc->name, vn, sc->name, vn);
     free(x);
     free(buf);
 }
@@ -170,7 +157,7 @@ void bench_report_havran(const bench_report *rp)
         fprintf(rp->f, "### %s\n\n", bench_table_title(BENCH_H3));
         fprintf(rp->f,
                 "Primary rays at %ux%u; BTR and SLTR on kd-trees with sparse boxes every "
-                "d_min levels, HTR on one without boxes (a constant line). The paper "
+                "d_min levels, HTR and SEQ on one without boxes (constant lines). The paper "
                 "gives this figure only as plots for its own scenes; its Table 1 shows "
                 "the boxes cutting the interior nodes per ray (BTR 73.67 against HTR's "
                 "86.85 on 'arena') while SLTR visits about 1.46x HTR's.\n\n",

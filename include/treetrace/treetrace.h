@@ -108,6 +108,28 @@ void tt_scene_bounds(const tt_scene *scene, float min[3], float max[3]);
 /* Triangle i's three vertices (9 floats). */
 tt_status tt_scene_triangle(const tt_scene *scene, size_t i, float out[9]);
 
+/* ------------------------------------------------------------ scene arrays */
+
+/* The scene's arrays copied out in one call (for bindings such as numpy,
+ * which would otherwise call tt_scene_triangle once per triangle). Each
+ * pointer may be NULL to skip that array:
+ *   vertices   vertex_capacity >= tt_scene_vertex_count: 3 floats a vertex
+ *   indices    triangle_capacity >= tt_scene_triangle_count: 3 vertex ids a
+ *              triangle, load order
+ *   triangles  triangle_capacity as above: 9 floats a triangle (v0, v1, v2),
+ *              what tt_scene_triangle gives for each
+ * A capacity below the scene's count is TT_ERR_INVALID_ARGUMENT (nothing is
+ * written), so a stale size cannot overrun the caller's arrays. */
+tt_status tt_scene_copy_arrays(const tt_scene *scene, float *vertices, size_t vertex_capacity,
+                               uint32_t *indices, float *triangles, size_t triangle_capacity);
+/* The geometric normals of `count` triangles (hit results' prim ids):
+ * normalize(cross(v1 - v0, v2 - v0)) of each, 3 floats to normals[3 i];
+ * (0, 0, 0) for TT_INVALID_ID (a miss) and for a degenerate triangle. Any
+ * other id past the scene's triangles is TT_ERR_INVALID_ARGUMENT, naming
+ * its index (the normals before it are written). */
+tt_status tt_scene_normals(const tt_scene *scene, const uint32_t *prims, size_t count,
+                           float *normals);
+
 /* --------------------------------------------------------------- rays, hits */
 
 #define TT_INVALID_ID 0xFFFFFFFFu
@@ -225,7 +247,7 @@ typedef struct tt_kdtree_options {
                             /* htr (it reads no boxes), TT_KD_DMIN_BOXES for  */
                             /* the others; resolved in the built accel        */
     float cost_traversal;   /* SAH C_T, default 1                              */
-    float cost_intersect;   /* SAH C_I, default 0.5 (the papers' tables: 1.5)  */
+    float cost_intersect;   /* SAH C_I, default 0.2 (the papers' tables: 1.5)  */
     float empty_bonus;      /* in [0, 1): a split with an empty side costs    */
                             /* (1 - bonus) x; default 0.2 (W&H's 0.8 factor)  */
     int max_depth;          /* 0: automatic (8 + 1.3 log2 N)                   */

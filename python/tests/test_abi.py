@@ -24,7 +24,7 @@ def test_build_options_layout():
     assert abs(r.reinsert_fraction - 0.3) < 1e-6 and r.reinsert_far == 1
     assert (r.split, r.traversal) == (0, 0)
     assert (k.builder, k.dmin, k.max_depth, k.traversal, k.shadow_caster_hint) == (0, 0, 0, 0, 0)
-    assert (k.cost_traversal, abs(k.cost_intersect - 0.5) < 1e-6) == (1.0, True)
+    assert (k.cost_traversal, abs(k.cost_intersect - 0.2) < 1e-6) == (1.0, True)
     assert abs(k.empty_bonus - 0.2) < 1e-6
     assert o.embree.quality == 0
 

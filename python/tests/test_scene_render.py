@@ -42,13 +42,40 @@ def test_scene_from_memory_and_load_errors(tmp_path):
 
 
 def test_structure_options(small_scene):
-    for opts in ({"strategy": "rstar", "M": 8, "m": 3}, {"split": "quadratic", "reinsert": False},
-                 {"reinsert_mode": "close", "reinsert_fraction": 0.4}):
-        a = tt.Accel(small_scene, "rtree", **opts)
+    # Each option is read back (statistics) or, where no statistic shows it,
+    # must change the tree built from the same scene: an option parsed and
+    # then ignored fails here.
+    def stats(accel, **opts):
+        a = tt.Accel(small_scene, accel, **opts)
         a.check()
-    for opts in ({"builder": "nlog2n"}, {"dmin": None}, {"dmin": 2, "cost_intersect": 2.0},
-                 {"shadow_hint": "caster", "traversal": "sltr"}, {"max_depth": 12}):
-        tt.Accel(small_scene, "kdtree", **opts).check()
+        return a.statistics()
+
+    s = stats("rtree", strategy="rstar", M=8, m=3)
+    assert s["M"] == 8 and s["m"] == 3
+    insert = stats("rtree", build="insert")
+    # one option at a time, so that each must change the tree by itself
+    for opts in ({"strategy": "rstar"}, {"split": "quadratic"}, {"reinsert": False},
+                 {"reinsert_mode": "close"}, {"reinsert_fraction": 0.5}):
+        changed = stats("rtree", build="insert", **opts)
+        assert changed["sah_cost"] != insert["sah_cost"], opts
+    assert stats("rtree", build="str")["sah_cost"] != stats("rtree", build="sah")["sah_cost"]
+    assert "layout_compact" in stats("rtree", build="sah", layout="compact")
+    assert "layout_compact" not in stats("rtree", build="sah", layout="complete")
+    kd = stats("kdtree")
+    # the two exact builders build the same tree
+    kd2 = stats("kdtree", builder="nlog2n")
+    assert (kd2["sah_cost"], kd2["nodes"], kd2["references"]) == (kd["sah_cost"], kd["nodes"],
+                                                                  kd["references"])
+    assert stats("kdtree", builder="binned")["sah_cost"] != kd["sah_cost"]
+    assert kd["dmin"] == -1  # auto with htr: no boxes below the root
+    assert stats("kdtree", traversal="sltr")["dmin"] == 4
+    assert stats("kdtree", dmin=None, traversal="sltr")["N_B"] == 1  # the root's box only
+    s = stats("kdtree", dmin=2, cost_intersect=2.0)
+    assert s["dmin"] == 2 and s["sah_cost"] != kd["sah_cost"]
+    s = stats("kdtree", max_depth=12)
+    assert s["depth_limit"] == 12 and s["depth_max"] <= 12
+    # trace-time choices have no statistic: the structure must accept them
+    tt.Accel(small_scene, "kdtree", shadow_hint="caster", traversal="sltr").check()
     with pytest.raises(tt.InvalidArgumentError) as e:
         tt.Accel(small_scene, "rtree", M=40)
     assert "M" in str(e.value)

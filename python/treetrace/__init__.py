@@ -27,3 +27,9 @@ __all__ = ["INVALID_ID", "Accel", "Camera", "Context", "Error", "FileError", "Hi
            "OutOfMemoryError", "ParseError", "RenderResult", "Scene", "UnsupportedError",
            "accel_names", "default_context", "isa_best", "isa_supported", "library_path",
            "render", "version", "write_png"]
+
+# Open3D's RaycastingScene interface (cast_rays / test_occlusions on (..., 6)
+# rays: treetrace.raycast, treetrace.o3d).
+from .o3d import RaycastingScene  # noqa: E402
+
+__all__ += ["RaycastingScene"]

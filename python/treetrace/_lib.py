@@ -177,6 +177,14 @@ _SIGNATURES = {
 }
 
 
+# Scene arrays in one call and hit normals (issue 21): tt_scene_copy_arrays,
+# tt_scene_normals.
+_SIGNATURES.update({
+    "tt_scene_copy_arrays": (_st, [_p, _p, _sz, _p, _p, _sz]),
+    "tt_scene_normals": (_st, [_p, _p, _sz, _p]),
+})
+
+
 def _candidates():
     """Where the library may be, in the order tried."""
     env = os.environ.get("TREETRACE_LIBRARY")

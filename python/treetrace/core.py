@@ -1,10 +1,16 @@
 """Contexts, scenes, structures and batches of rays."""
 
+from __future__ import annotations
+
 import ctypes
+import os
+from typing import Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 
 from . import _lib
+from ._arrays import SceneArrays
+from .raycast import RayCasting
 from ._util import check, address, vectors, scalars, ray_count, lib
 from .errors import InvalidArgumentError
 
@@ -21,12 +27,23 @@ _KD_TRAVERSALS = ("htr", "btr", "sltr", "seq")
 _EMBREE_QUALITIES = ("high", "medium", "low")
 
 
-def version():
+def version() -> str:
+    """The library's version string.
+
+    >>> import treetrace as tt
+    >>> tt.version().count(".") >= 2
+    True
+    """
     return lib.tt_version().decode()
 
 
-def accel_names():
-    """The structures this build offers ("bruteforce", "rtree", ...)."""
+def accel_names() -> List[str]:
+    """The structures this build offers ("bruteforce", "rtree", ...).
+
+    >>> import treetrace as tt
+    >>> {"bruteforce", "rtree", "kdtree"} <= set(tt.accel_names())
+    True
+    """
     names, arr, i = [], lib.tt_accel_names(), 0
     while arr[i]:
         names.append(arr[i].decode())
@@ -34,11 +51,23 @@ def accel_names():
     return names
 
 
-def isa_best():
+def isa_best() -> str:
+    """The fastest instruction set this CPU runs ("scalar" ... "avx512").
+
+    >>> import treetrace as tt
+    >>> tt.isa_best() in ("scalar", "sse4.2", "avx2", "avx512")
+    True
+    """
     return _ISA_NAMES[lib.tt_isa_best()]
 
 
-def isa_supported(name):
+def isa_supported(name: str) -> bool:
+    """Whether this CPU runs the kernels of `name`.
+
+    >>> import treetrace as tt
+    >>> tt.isa_supported("scalar")
+    True
+    """
     return bool(lib.tt_isa_supported(_choice("isa", name, _ISA_NAMES)))
 
 
@@ -54,9 +83,14 @@ def _choice(option, value, names):
 
 class Context:
     """Threads (0: OpenMP's default) and the last error of the calls made
-    through it. Scenes and structures keep their context alive."""
+    through it. Scenes and structures keep their context alive.
 
-    def __init__(self, threads=0):
+    >>> import treetrace as tt
+    >>> tt.Context(threads=1).threads
+    1
+    """
+
+    def __init__(self, threads: int = 0) -> None:
         opts = _lib.ContextOptions()
         lib.tt_context_options_default(ctypes.byref(opts))
         opts.threads = int(threads)
@@ -66,11 +100,11 @@ class Context:
         self._h = handle
 
     @property
-    def threads(self):
+    def threads(self) -> int:
         return lib.tt_context_threads(self._h)
 
     @property
-    def last_error(self):
+    def last_error(self) -> str:
         return lib.tt_context_last_error(self._h).decode("utf-8", "replace")
 
     def __del__(self):
@@ -83,30 +117,62 @@ class Context:
 _default_context = None
 
 
-def default_context():
+def default_context() -> Context:
+    """The context used when none is passed (OpenMP's default threads).
+
+    >>> import treetrace as tt
+    >>> tt.default_context() is tt.default_context()
+    True
+    """
     global _default_context
     if _default_context is None:
         _default_context = Context()
     return _default_context
 
 
-class Scene:
+class Scene(SceneArrays):
     """Triangles: Scene.load(path) (OBJ/PLY), Scene.from_arrays(vertices,
-    indices) or Scene.from_memory(data, format)."""
+    indices) or Scene.from_memory(data, format). Whole arrays come back
+    from one C call each: vertices, indices, arrays(), triangles(),
+    normals().
 
-    def __init__(self, handle, context):
+    >>> import treetrace as tt
+    >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]],
+    ...                          [[0, 1, 2], [0, 2, 3]])
+    >>> s.triangle_count, s.vertex_count
+    (2, 4)
+    """
+
+    def __init__(self, handle, context: Context) -> None:
         self._h = handle
         self.context = context
 
     @classmethod
-    def load(cls, path, context=None):
+    def load(cls, path: Union[str, "os.PathLike[str]"],
+             context: Optional[Context] = None) -> "Scene":
+        """An OBJ or PLY file (told apart by content). Errors name the file
+        and the line or byte offset.
+
+        >>> import treetrace as tt
+        >>> tt.Scene.load("no/such/scene.ply")
+        Traceback (most recent call last):
+          ...
+        treetrace.errors.FileError: no/such/scene.ply: cannot open: No such file or directory
+        """
         ctx = context or default_context()
         h = ctypes.c_void_p()
         check(lib.tt_scene_load(ctx._h, str(path).encode(), ctypes.byref(h)), ctx._h)
         return cls(h, ctx)
 
     @classmethod
-    def from_memory(cls, data, format=None, name="memory", context=None):
+    def from_memory(cls, data: bytes, format: Optional[str] = None, name: str = "memory",
+                    context: Optional[Context] = None) -> "Scene":
+        """A scene from an OBJ or PLY file's bytes; `name` appears in errors.
+
+        >>> import treetrace as tt
+        >>> tt.Scene.from_memory(b"v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nf 1 2 3\\n", "obj").triangle_count
+        1
+        """
         ctx = context or default_context()
         data = bytes(data)
         h = ctypes.c_void_p()
@@ -115,13 +181,30 @@ class Scene:
         return cls(h, ctx)
 
     @classmethod
-    def from_arrays(cls, vertices, indices, context=None):
-        """vertices: (V, 3) floats; indices: (T, 3) integers < V."""
+    def from_arrays(cls, vertices, indices, context: Optional[Context] = None) -> "Scene":
+        """vertices: (V, 3) floats; indices: (T, 3) integers < V. A C-ordered
+        float32 vertex array and a C-ordered uint32 or int32 index array go
+        to the library as they are, without a copy in Python (int32 is
+        viewed as uint32 after a check for negative ids); other types and
+        layouts are converted once. The library keeps its own copy (its
+        kernels read a flat per-triangle one), so the arrays may change
+        afterwards.
+
+        >>> import numpy as np, treetrace as tt
+        >>> v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32)
+        >>> tt.Scene.from_arrays(v, np.array([[0, 1, 2]], np.int32)).triangle_count
+        1
+        """
         ctx = context or default_context()
         v = np.ascontiguousarray(vertices, dtype=np.float32)
         i = np.asarray(indices)
-        if i.size and (i.min() < 0 or i.max() > 0xFFFFFFFF):
-            raise InvalidArgumentError("indices: values outside 0 .. 2^32-1", 1)
+        if i.dtype == np.int32 and i.flags.c_contiguous:
+            if i.size and i.min() < 0:
+                raise InvalidArgumentError("indices: values outside 0 .. 2^32-1", 1)
+            i = i.view(np.uint32)
+        elif i.dtype != np.uint32:
+            if i.size and (i.min() < 0 or i.max() > 0xFFFFFFFF):
+                raise InvalidArgumentError("indices: values outside 0 .. 2^32-1", 1)
         i = np.ascontiguousarray(i, dtype=np.uint32)
         if v.ndim != 2 or v.shape[1] != 3:
             raise InvalidArgumentError("vertices: expected shape (V, 3), got %s" % (v.shape,), 1)
@@ -133,50 +216,59 @@ class Scene:
         return cls(h, ctx)
 
     @property
-    def triangle_count(self):
+    def triangle_count(self) -> int:
         return lib.tt_scene_triangle_count(self._h)
 
     @property
-    def vertex_count(self):
+    def vertex_count(self) -> int:
         return lib.tt_scene_vertex_count(self._h)
 
     @property
-    def bounds(self):
+    def bounds(self) -> Tuple[np.ndarray, np.ndarray]:
+        """The box of the triangles' vertices: (lo, hi) float32 (3,) arrays.
+
+        >>> import treetrace as tt
+        >>> tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 2, 0]], [[0, 1, 2]]).bounds
+        (array([0., 0., 0.], dtype=float32), array([1., 2., 0.], dtype=float32))
+        """
         lo, hi = (ctypes.c_float * 3)(), (ctypes.c_float * 3)()
         lib.tt_scene_bounds(self._h, lo, hi)
         return np.array(lo[:], np.float32), np.array(hi[:], np.float32)
 
-    def triangles(self):
-        """All triangles as a (T, 3, 3) float32 array, in load order."""
-        n = self.triangle_count
-        out = np.empty((n, 3, 3), np.float32)
-        buf = (ctypes.c_float * 9)()
-        for k in range(n):
-            check(lib.tt_scene_triangle(self._h, k, buf), self.context._h)
-            out[k] = np.frombuffer(buf, np.float32).reshape(3, 3)
-        return out
-
     def __del__(self):
         h = getattr(self, "_h", None)
-        if h:
+        # The garbage collector may finalize a context before the scene and
+        # structures made with it (cycles, interpreter exit); freeing them
+        # through a destroyed context would crash, so they are left then.
+        if h and getattr(getattr(self, "context", None), "_h", None):
             lib.tt_scene_destroy(h)
-            self._h = None
+        self._h = None
 
 
 class Hits:
     """Closest hits of a batch: t (+inf on a miss), u, v (barycentrics of
     vertices 1 and 2) as float32 arrays, prim (triangle id, INVALID_ID on a
     miss) as uint32, status (0 for a ray traced, else its tt_status);
-    stats: the batch's traversal counts when asked for."""
+    stats: the batch's traversal counts when asked for; normal: (N, 3)
+    float32 unit geometric normals with intersect(normals=True), else None.
+
+    >>> import treetrace as tt
+    >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    >>> h = tt.Accel(s).intersect([[0.2, 0.2, 1], [5, 5, 1]], (0, 0, -1))
+    >>> h.hit, len(h)
+    (array([ True, False]), 2)
+    """
+
+    normal: Optional[np.ndarray] = None
 
     def __init__(self, t, u, v, prim, status, stats=None):
         self.t, self.u, self.v, self.prim, self.status, self.stats = t, u, v, prim, status, stats
 
     @property
-    def hit(self):
+    def hit(self) -> np.ndarray:
         return self.prim != INVALID_ID
 
-    def __len__(self):
+    def __len__(self) -> int:
         return len(self.t)
 
 
@@ -228,7 +320,7 @@ def _build_options(accel, isa, traversal, options):
     return o
 
 
-class Accel:
+class Accel(RayCasting):
     """An acceleration structure over a scene.
 
     Accel(scene, "rtree" | "kdtree" | "bruteforce" | "embree", isa="auto",
@@ -237,9 +329,19 @@ class Accel:
     reinsert_mode, split; kdtree options: builder, dmin (None: the root's box
     only), cost_traversal, cost_intersect, empty_bonus, max_depth,
     shadow_hint; embree: quality ("high", "medium", "low"). Names as in
-    `treetrace render --help`."""
+    `treetrace render --help`. Rays: intersect/occluded (arrays of
+    origins and directions), cast_rays/test_occlusions (Open3D's (N, 6)
+    form), intersect1/occluded1 (one ray).
 
-    def __init__(self, scene, accel="rtree", isa="auto", traversal=None, **options):
+    >>> import treetrace as tt
+    >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    >>> a = tt.Accel(s, "kdtree", traversal="sltr", dmin=2)
+    >>> a.name, a.memory_bytes > 0
+    ('kdtree', True)
+    """
+
+    def __init__(self, scene: Scene, accel: str = "rtree", isa: str = "auto",
+                 traversal: Optional[str] = None, **options: Any) -> None:
         self.scene = scene
         self.context = scene.context
         opts = _build_options(accel, isa, traversal, options)
@@ -250,32 +352,43 @@ class Accel:
 
     def __del__(self):
         h = getattr(self, "_h", None)
-        if h:
+        if h and getattr(getattr(self, "context", None), "_h", None):  # see Scene.__del__
             lib.tt_accel_destroy(h)
-            self._h = None
+        self._h = None
 
     @property
-    def name(self):
+    def name(self) -> str:
         return lib.tt_accel_name(self._h).decode()
 
     @property
-    def isa(self):
+    def isa(self) -> str:
         return _ISA_NAMES[lib.tt_accel_isa(self._h)]
 
     @property
-    def build_seconds(self):
+    def build_seconds(self) -> float:
         return lib.tt_accel_build_seconds(self._h)
 
     @property
-    def memory_bytes(self):
+    def memory_bytes(self) -> int:
         return lib.tt_accel_memory_bytes(self._h)
 
-    def check(self):
-        """Verifies the structure's invariants (InvariantError if broken)."""
+    def check(self) -> None:
+        """Verifies the structure's invariants (InvariantError if broken).
+
+        >>> import treetrace as tt
+        >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+        >>> tt.Accel(s, "rtree").check()
+        """
         check(lib.tt_accel_check(self._h), self.context._h)
 
-    def statistics(self):
-        """The structure's statistics (height, nodes, SAH cost ...) as a dict."""
+    def statistics(self) -> Dict[str, float]:
+        """The structure's statistics (height, nodes, SAH cost ...) as a dict.
+
+        >>> import treetrace as tt
+        >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+        >>> tt.Accel(s, "rtree").statistics()["triangles"]
+        1.0
+        """
         out = {}
 
         def add(_user, key, value):
@@ -285,8 +398,14 @@ class Accel:
         check(lib.tt_accel_statistics(self._h, fn, None), self.context._h)
         return out
 
-    def locate(self, point):
-        """The start hint for rays from `point` (kd-tree; else INVALID_ID)."""
+    def locate(self, point) -> int:
+        """The start hint for rays from `point` (kd-tree; else INVALID_ID).
+
+        >>> import treetrace as tt
+        >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+        >>> isinstance(tt.Accel(s, "kdtree").locate((0.2, 0.2, 0.0)), int)
+        True
+        """
         p = (ctypes.c_float * 3)(*[float(x) for x in point])
         return int(lib.tt_accel_locate(self._h, p))
 
@@ -322,8 +441,9 @@ class Accel:
         if st != 0 and errors == "raise":
             check(st, self.context._h)
 
-    def intersect(self, origins, directions, tmin=None, tmax=None, start_hint=None,
-                  stats=False, errors="raise", image_width=0):
+    def intersect(self, origins, directions, tmin=None, tmax=None,
+                  start_hint: Optional[int] = None, stats: bool = False, errors: str = "raise",
+                  image_width: int = 0, normals: bool = False) -> Hits:
         """Closest hits of N rays on [tmin, tmax): origins and directions
         (N, 3) arrays, or one (3,) vector for every ray; tmin/tmax None
         (0 and +inf), a number or (N,) arrays. float32 arrays are used in
@@ -334,7 +454,16 @@ class Accel:
         start_hint: the kd-tree's start node for every ray (Accel.locate of
         their common origin). image_width: the rays are the rows of an
         image that wide (as Camera.rays gives them): threads trace 16 x 16
-        tiles, as the renderer does, which is faster for coherent rays."""
+        tiles, as the renderer does, which is faster for coherent rays.
+        normals=True: also Hits.normal, the hit triangles' unit geometric
+        normals (Scene.normals; zeros on a miss).
+
+        >>> import treetrace as tt
+        >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+        >>> h = tt.Accel(s, "kdtree").intersect([[0.2, 0.3, 1]], (0, 0, -1), normals=True)
+        >>> h.t, h.prim, h.normal
+        (array([1.], dtype=float32), array([0], dtype=uint32), array([[0., 0., 1.]], dtype=float32))
+        """
         if errors not in ("raise", "ignore"):
             raise ValueError("errors: 'raise' or 'ignore'")
         n, ra, bo, counts, keep = self._batch(origins, directions, tmin, tmax, start_hint, stats,
@@ -349,13 +478,23 @@ class Accel:
                                      address(status), ctypes.byref(bo))
         del keep
         self._finish(st, status, errors)
-        return Hits(t, u, v, prim, status, counts.as_dict() if counts is not None else None)
+        hits = Hits(t, u, v, prim, status, counts.as_dict() if counts is not None else None)
+        if normals:
+            hits.normal = self.scene.normals(prim)
+        return hits
 
-    def occluded(self, origins, directions, tmin=None, tmax=None, start_hint=None, stats=False,
-                 errors="raise", return_status=False, image_width=0):
+    def occluded(self, origins, directions, tmin=None, tmax=None,
+                 start_hint: Optional[int] = None, stats: bool = False, errors: str = "raise",
+                 return_status: bool = False, image_width: int = 0):
         """Whether anything lies on [tmin, tmax) of each ray: a bool (N,)
         array (and the status array with return_status=True; the counts too
-        with stats=True). Arguments as for intersect."""
+        with stats=True). Arguments as for intersect.
+
+        >>> import treetrace as tt
+        >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+        >>> tt.Accel(s, "rtree").occluded([[0.2, 0.2, 1]] * 2, (0, 0, -1), tmax=[2, 0.5])
+        array([ True, False])
+        """
         if errors not in ("raise", "ignore"):
             raise ValueError("errors: 'raise' or 'ignore'")
         n, ra, bo, counts, keep = self._batch(origins, directions, tmin, tmax, start_hint, stats,
@@ -373,8 +512,15 @@ class Accel:
             out.append(counts.as_dict())
         return out[0] if len(out) == 1 else tuple(out)
 
-    def intersect1(self, origin, direction, tmin=0.0, tmax=float("inf"), start_hint=None):
-        """One ray through tt_intersect1_ex: (t, u, v, prim)."""
+    def intersect1(self, origin, direction, tmin: float = 0.0, tmax: float = float("inf"),
+                   start_hint: Optional[int] = None) -> Tuple[float, float, float, int]:
+        """One ray through tt_intersect1_ex: (t, u, v, prim).
+
+        >>> import treetrace as tt
+        >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+        >>> tt.Accel(s).intersect1((0.25, 0.5, 2), (0, 0, -1))
+        (2.0, 0.25, 0.5, 0)
+        """
         r = _lib.Ray((ctypes.c_float * 3)(*origin), tmin, (ctypes.c_float * 3)(*direction), tmax)
         h = _lib.Hit()
         args = _lib.TraceArgs(INVALID_ID if start_hint is None else start_hint, INVALID_ID, None)
@@ -382,8 +528,15 @@ class Accel:
               self.context._h)
         return h.t, h.u, h.v, h.prim
 
-    def occluded1(self, origin, direction, tmin=0.0, tmax=float("inf"), start_hint=None):
-        """One ray through tt_occluded1_ex: True or False."""
+    def occluded1(self, origin, direction, tmin: float = 0.0, tmax: float = float("inf"),
+                  start_hint: Optional[int] = None) -> bool:
+        """One ray through tt_occluded1_ex: True or False.
+
+        >>> import treetrace as tt
+        >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+        >>> tt.Accel(s).occluded1((0.25, 0.5, 2), (0, 0, 1))
+        False
+        """
         r = _lib.Ray((ctypes.c_float * 3)(*origin), tmin, (ctypes.c_float * 3)(*direction), tmax)
         o = ctypes.c_int()
         args = _lib.TraceArgs(INVALID_ID if start_hint is None else start_hint, INVALID_ID, None)

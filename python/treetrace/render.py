@@ -1,6 +1,9 @@
 """Cameras, primary rays of a view, rendering to arrays and PNG files."""
 
+from __future__ import annotations
+
 import ctypes
+from typing import Optional, Tuple
 
 import numpy as np
 
@@ -13,9 +16,15 @@ class Camera:
     """A pinhole camera per the conventions (vertical fov in degrees) with
     an optional point light: Camera(eye, look, up=(0, 1, 0), fov=45,
     light=None), Camera.from_view(views_tsv, "scene:view") or
-    Camera.frame(scene)."""
+    Camera.frame(scene).
 
-    def __init__(self, eye, look, up=(0.0, 1.0, 0.0), fov=45.0, light=None):
+    >>> import treetrace as tt
+    >>> cam = tt.Camera(eye=(0, 0, 5), look=(0, 0, 0), fov=60)
+    >>> cam.eye, cam.fov
+    (array([0., 0., 5.], dtype=float32), 60.0)
+    """
+
+    def __init__(self, eye, look, up=(0.0, 1.0, 0.0), fov: float = 45.0, light=None) -> None:
         c = _lib.Camera()
         c.eye[:] = [float(x) for x in eye]
         c.look[:] = [float(x) for x in look]
@@ -33,7 +42,15 @@ class Camera:
         return cam
 
     @classmethod
-    def from_view(cls, views_path, name, context=None):
+    def from_view(cls, views_path, name: str, context=None) -> "Camera":
+        """The view "scene:view" of a views.tsv file (see the scenes' README).
+
+        >>> import treetrace as tt
+        >>> tt.Camera.from_view("no/views.tsv", "bunny:main")
+        Traceback (most recent call last):
+          ...
+        treetrace.errors.FileError: no/views.tsv: cannot open: No such file or directory
+        """
         ctx = context or default_context()
         c = _lib.Camera()
         check(lib.tt_view_find(ctx._h, str(views_path).encode(), name.encode(), ctypes.byref(c)),
@@ -41,7 +58,14 @@ class Camera:
         return cls._wrap(c)
 
     @classmethod
-    def frame(cls, scene):
+    def frame(cls, scene) -> "Camera":
+        """A camera framing the scene's box, with a light above-left of the eye.
+
+        >>> import treetrace as tt
+        >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+        >>> tt.Camera.frame(s).light is not None
+        True
+        """
         c = _lib.Camera()
         lib.tt_camera_frame_scene(scene._h, ctypes.byref(c))
         return cls._wrap(c)
@@ -53,10 +77,17 @@ class Camera:
     light = property(lambda self: np.array(self._c.light[:], np.float32)
                      if self._c.has_light else None)
 
-    def rays(self, width, height):
+    def rays(self, width: int, height: int
+             ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """The primary rays tt_render traces, row-major from the top-left:
         (origins, directions, tmin, tmax) as views of one (H*W, 8) float32
-        array in tt_ray's layout (no copy when passed to the batch calls)."""
+        array in tt_ray's layout (no copy when passed to the batch calls).
+
+        >>> import treetrace as tt
+        >>> org, d, tmin, tmax = tt.Camera((0, 0, 5), (0, 0, 0)).rays(4, 3)
+        >>> org.shape, d.shape, float(tmax[0])
+        ((12, 3), (12, 3), inf)
+        """
         buf = np.empty((int(width) * int(height), 8), np.float32)
         st = lib.tt_camera_rays(ctypes.byref(self._c), width, height, address(buf))
         if st != 0:
@@ -67,7 +98,14 @@ class Camera:
 class RenderResult:
     """image: (H, W, 3) uint8 (shaded); summary: dict of tt_render_summary
     (timings, counts, Mrays/s); with hits=True also prim (H, W) uint32, t
-    (H, W) float32 and shadow (H, W) bool, the conventions' hit buffer."""
+    (H, W) float32 and shadow (H, W) bool, the conventions' hit buffer.
+
+    >>> import treetrace as tt
+    >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    >>> r = tt.render(s, tt.Accel(s), tt.Camera.frame(s), 8, 6, hits=True)
+    >>> r.image.shape, r.prim.shape, r.summary["primary_rays"]
+    ((6, 8, 3), (6, 8), 48)
+    """
 
     def __init__(self, image, summary, prim=None, t=None, shadow=None):
         self.image, self.summary, self.prim, self.t, self.shadow = image, summary, prim, t, shadow
@@ -85,9 +123,17 @@ def _summary(s):
     return out
 
 
-def render(scene, accel, camera, width=1024, height=1024, shadows=True, repeat=1, hits=False,
-           image=True):
-    """tt_render on the context's threads: a shaded image as an array."""
+def render(scene, accel, camera: Camera, width: int = 1024, height: int = 1024,
+           shadows: bool = True, repeat: int = 1, hits: bool = False,
+           image: bool = True) -> RenderResult:
+    """tt_render on the context's threads: a shaded image as an array.
+
+    >>> import treetrace as tt
+    >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    >>> img = tt.render(s, tt.Accel(s, "kdtree"), tt.Camera.frame(s), 32, 24).image
+    >>> img.shape, img.dtype
+    ((24, 32, 3), dtype('uint8'))
+    """
     ctx = scene.context
     o = _lib.RenderOptions()
     lib.tt_render_options_default(ctypes.byref(o))
@@ -121,8 +167,14 @@ def render(scene, accel, camera, width=1024, height=1024, shadows=True, repeat=1
         lib.tt_render_result_destroy(res)
 
 
-def write_png(path, image, context=None):
-    """Writes an (H, W, 3) uint8 array as an 8-bit RGB PNG."""
+def write_png(path, image, context=None) -> None:
+    """Writes an (H, W, 3) uint8 array as an 8-bit RGB PNG.
+
+    >>> import numpy as np, treetrace as tt
+    >>> tt.write_png("red.png", np.full((4, 4, 3), (255, 0, 0), np.uint8))
+    >>> open("red.png", "rb").read(4)
+    b'\\x89PNG'
+    """
     ctx = context or default_context()
     img = np.ascontiguousarray(image, dtype=np.uint8)
     if img.ndim != 3 or img.shape[2] != 3:

@@ -72,7 +72,11 @@ typedef struct tt_gpu_frame {
 } tt_gpu_frame;
 
 /* Whether a usable CUDA device is present: TT_OK and its name, or
- * TT_ERR_NO_DEVICE with "no usable CUDA device: <why>" in msg. */
+ * TT_ERR_NO_DEVICE with "no usable CUDA device: <why>" in msg, where <why>
+ * is either "no device here (...)" (CUDA finds none and there is no
+ * /dev/nvidia0 or NVIDIA kernel driver) or "a device is present but
+ * failing (...)" (driver mismatch, failed initialisation, no kernel for
+ * the card: a broken setup, which GPU tests must not skip). */
 tt_status tt_gpu_probe(char *name, size_t name_size, char *msg, size_t msg_size);
 
 /* Uploads the structure, traces the frame (counting pass first when asked,

@@ -3,6 +3,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cuda/gpu_internal.h"
 
@@ -41,7 +42,8 @@ tt_status tt_gpu_fail(tt_gpu_err *e, cudaError_t err, const char *what)
         put(e->msg, e->size, "GPU: out of device memory for the %s (%s)", what,
             cudaGetErrorString(err));
     else if (st == TT_ERR_NO_DEVICE)
-        put(e->msg, e->size, "no usable CUDA device: %s (%s)", cudaGetErrorString(err), what);
+        put(e->msg, e->size, "no usable CUDA device: a device is present but failing (%s: %s)",
+            what, cudaGetErrorString(err));
     else
         put(e->msg, e->size, "GPU: %s failed: %s", what, cudaGetErrorString(err));
     return st;
@@ -66,32 +68,48 @@ tt_status tt_gpu_upload_array(tt_gpu_arrays *a, const void *src, size_t bytes, v
  * the device cannot run this build's code (an older architecture). */
 __global__ void tt_gpu_probe_kernel(void) {}
 
+/* Whether this machine shows an NVIDIA device node, i.e. a GPU and its
+ * kernel driver are present: CUDA failing then is a broken setup (driver
+ * mismatch, failed initialisation, no kernel for the card), never "no
+ * device", and is reported as such. */
+static int device_node_present(void)
+{
+    return access("/dev/nvidia0", F_OK) == 0 || access("/proc/driver/nvidia/version", F_OK) == 0;
+}
+
+/* The probe's failure: "no device" when CUDA finds none and nothing on the
+ * machine says there is one; otherwise "present but failing", with the
+ * step that failed and CUDA's reason. */
+static tt_status probe_fail(char *msg, size_t msg_size, const char *step, cudaError_t err)
+{
+    int absent = err == cudaErrorNoDevice || err == cudaErrorInsufficientDriver;
+    if (absent && !device_node_present())
+        put(msg, msg_size, "no usable CUDA device: no device here (%s: %s)", step,
+            cudaGetErrorString(err));
+    else
+        put(msg, msg_size,
+            "no usable CUDA device: a device is present but failing (%s: %s, CUDA error %d)",
+            step, cudaGetErrorString(err), (int)err);
+    return TT_ERR_NO_DEVICE;
+}
+
 tt_status tt_gpu_probe(char *name, size_t name_size, char *msg, size_t msg_size)
 {
     int count = 0;
     put(name, name_size, "%s", "");
     cudaError_t err = cudaGetDeviceCount(&count);
-    if (err != cudaSuccess) {
-        put(msg, msg_size, "no usable CUDA device: %s", cudaGetErrorString(err));
-        return TT_ERR_NO_DEVICE;
-    }
-    if (count < 1) {
-        put(msg, msg_size, "no usable CUDA device: no CUDA-capable device is detected");
-        return TT_ERR_NO_DEVICE;
-    }
+    if (err != cudaSuccess) return probe_fail(msg, msg_size, "cudaGetDeviceCount", err);
+    if (count < 1) return probe_fail(msg, msg_size, "cudaGetDeviceCount", cudaErrorNoDevice);
     cudaDeviceProp prop;
     err = cudaGetDeviceProperties(&prop, 0);
-    if (err != cudaSuccess) {
-        put(msg, msg_size, "no usable CUDA device: %s", cudaGetErrorString(err));
-        return TT_ERR_NO_DEVICE;
-    }
+    if (err != cudaSuccess) return probe_fail(msg, msg_size, "cudaGetDeviceProperties", err);
     put(name, name_size, "%s", prop.name);
     cudaFuncAttributes attr;
     err = cudaFuncGetAttributes(&attr, tt_gpu_probe_kernel);
     if (err != cudaSuccess) {
         put(msg, msg_size,
-            "no usable CUDA device: %s (compute capability %d.%d) cannot run this build's "
-            "code, built for sm_%s: %s",
+            "no usable CUDA device: a device is present but failing: %s (compute capability "
+            "%d.%d) cannot run this build's code, built for sm_%s: %s",
             prop.name, prop.major, prop.minor, TT_CUDA_ARCHS, cudaGetErrorString(err));
         return TT_ERR_NO_DEVICE;
     }

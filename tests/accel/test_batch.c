@@ -161,16 +161,33 @@ static void check_accel(tt_context *ctx, const tt_accel *accel, const tt_ray *ra
     ra.org_stride = ra.dir_stride = sizeof(float);
     tt_hit_arrays ha = {out + 0, 4 * sizeof(float), out + 1, 4 * sizeof(float),
                         out + 2, 4 * sizeof(float), (uint32_t *)(void *)(out + 3), 4 * sizeof(float)};
-    tt_intersect_arrays(accel, &ra, n, &ha, st_many, NULL);
-    tt_intersect(accel, plain, n, many, NULL, NULL);
-    size_t differ = 0;
+    /* what each ray of the SoA set must give: tt_intersect1's status; the
+     * call itself TT_ERR_INVALID_ARGUMENT when any ray is refused */
+    size_t refused = 0;
     for (size_t i = 0; i < n; i++) {
+        tt_hit h;
+        st_one[i] = tt_intersect1(accel, &plain[i], &h);
+        refused += st_one[i] != TT_OK;
+    }
+    const tt_status want = refused ? TT_ERR_INVALID_ARGUMENT : TT_OK;
+    tt_status st = tt_intersect_arrays(accel, &ra, n, &ha, st_many, NULL);
+    CHECK_MSG(st == want, "%s: tt_intersect_arrays gave %s, want %s", what, tt_strerror(st),
+              tt_strerror(want));
+    st = tt_intersect(accel, plain, n, many, NULL, NULL);
+    CHECK_MSG(st == want, "%s: tt_intersect gave %s, want %s", what, tt_strerror(st),
+              tt_strerror(want));
+    size_t differ = 0, status_differ = 0;
+    for (size_t i = 0; i < n; i++) {
+        status_differ += st_many[i] != st_one[i];
         if (st_many[i] != TT_OK) continue;
         if (memcmp(out + 4 * i, &many[i], sizeof(tt_hit)) != 0) differ++;
     }
+    CHECK_MSG(status_differ == 0, "%s: %zu SoA ray statuses differ from tt_intersect1's", what,
+              status_differ);
     CHECK_MSG(differ == 0, "%s: %zu SoA hits differ from the AoS batch", what, differ);
     tt_hit_arrays only = {NULL, 0, NULL, 0, NULL, 0, prim_only, sizeof(uint32_t)};
-    tt_intersect_arrays(accel, &ra, n, &only, NULL, NULL);
+    st = tt_intersect_arrays(accel, &ra, n, &only, NULL, NULL);
+    CHECK_MSG(st == want, "%s: prim-only tt_intersect_arrays gave %s", what, tt_strerror(st));
     differ = 0;
     for (size_t i = 0; i < n; i++)
         if (st_many[i] == TT_OK && prim_only[i] != many[i].prim) differ++;
@@ -178,11 +195,18 @@ static void check_accel(tt_context *ctx, const tt_accel *accel, const tt_ray *ra
     /* occlusion written every 3rd byte */
     uint8_t *occ3 = malloc(3 * n);
     if (!occ3) exit(1);
-    tt_occluded(accel, plain, n, occ_many, NULL, NULL);
-    tt_occluded_arrays(accel, &ra, n, occ3, 3, NULL, NULL);
+    st = tt_occluded(accel, plain, n, occ_many, NULL, NULL);
+    CHECK_MSG(st == want, "%s: tt_occluded gave %s", what, tt_strerror(st));
+    st = tt_occluded_arrays(accel, &ra, n, occ3, 3, st_many, NULL);
+    CHECK_MSG(st == want, "%s: tt_occluded_arrays gave %s", what, tt_strerror(st));
     differ = 0;
-    for (size_t i = 0; i < n; i++)
+    status_differ = 0;
+    for (size_t i = 0; i < n; i++) {
+        status_differ += st_many[i] != st_one[i];
         if (st_many[i] == TT_OK && occ3[3 * i] != occ_many[i]) differ++;
+    }
+    CHECK_MSG(status_differ == 0, "%s: %zu strided occlusion statuses differ", what,
+              status_differ);
     CHECK_MSG(differ == 0, "%s: %zu strided occlusions differ", what, differ);
 
     free(occ3);

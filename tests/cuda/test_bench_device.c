@@ -68,7 +68,11 @@ int main(void)
     free(text);
 
     tt_context *ctx = tt_test_context();
-    int gpu = tt_device_check(ctx, TT_DEVICE_GPU) == TT_OK;
+    tt_status dev = tt_device_check(ctx, TT_DEVICE_GPU);
+    int gpu = dev == TT_OK;
+    if (!gpu && (dev != TT_ERR_UNSUPPORTED || getenv("TT_REQUIRE_GPU")) && tt_test_gpu_required())
+        CHECK_MSG(0, "a GPU is required here (/dev/nvidia0 or TT_REQUIRE_GPU=1) but: %s",
+                  tt_context_last_error(ctx));
     if (gpu) {
         with_gpu(scenes, out, log);
     } else {

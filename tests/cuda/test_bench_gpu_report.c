@@ -36,6 +36,9 @@
 void bench_report_feldmann(const bench_report *rp) { (void)rp; }
 void bench_report_havran(const bench_report *rp) { (void)rp; }
 void bench_report_engine(const bench_report *rp) { (void)rp; }
+/* Nor the figures (drawn by python3 -m treetrace.plots). */
+const char *bench_figures_python(void) { return NULL; }
+void bench_figures_hint(FILE *f, const char *out_dir) { fprintf(f, "no figures: %s", out_dir); }
 
 static int parse(const char *a1, const char *a2, bench_options *o)
 {

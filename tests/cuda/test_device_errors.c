@@ -11,6 +11,7 @@
  * replaced by checks that the GPU path succeeds (the results themselves are
  * compared in test_gpu_vs_cpu). */
 #include <string.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "cli_run.h"
@@ -56,7 +57,16 @@ static int check_no_gpu_status(tt_context *ctx, tt_status st, const char *where)
 #ifdef TT_HAVE_CUDA
     if (st == TT_OK) return 1;
     CHECK_MSG(st == TT_ERR_NO_DEVICE, "%s: status %s", where, tt_strerror(st));
-    CHECK_MSG(strstr(msg, "no usable CUDA device: ") != NULL, "%s: message '%s'", where, msg);
+    CHECK_MSG(strstr(msg, "no usable CUDA device: no device here (") != NULL ||
+                  strstr(msg, "no usable CUDA device: a device is present but failing") != NULL,
+              "%s: message '%s'", where, msg);
+    /* with no NVIDIA device node or kernel driver, CUDA's failure means "no
+     * device"; "present but failing" is kept for a machine that has one */
+    if (access("/dev/nvidia0", F_OK) != 0 && access("/proc/driver/nvidia/version", F_OK) != 0)
+        CHECK_MSG(strstr(msg, "no usable CUDA device: no device here (") != NULL,
+                  "%s: no NVIDIA device node here, yet: '%s'", where, msg);
+    /* a present but failing device is a failure where one is required */
+    CHECK_MSG(!tt_test_gpu_required(), "%s: a GPU is required here but: %s", where, msg);
 #else
     CHECK_MSG(st == TT_ERR_UNSUPPORTED, "%s: status %s", where, tt_strerror(st));
     CHECK_MSG(strstr(msg, "this build has no CUDA (") != NULL, "%s: message '%s'", where, msg);

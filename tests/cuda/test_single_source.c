@@ -152,7 +152,7 @@ static void rtree_pixel(const view_frame *v, const tt_accel *accel, uint32_t x, 
                "GPU code prim %u t %.9g (%llu boxes), CPU path prim %u t %.9g (%llu boxes)", prim,
                dist, (unsigned long long)st_gpu.boxes, h_cpu.prim, h_cpu.t,
                (unsigned long long)st_cpu.boxes);
-    if (!tt_test_hits_agree(&h_gpu, &h_bf))
+    if (!tt_test_hits_agree_t(&h_gpu, &h_bf))
         report(c, &c->bad_ref, x, y, "GPU code prim %u t %.9g, bruteforce prim %u t %.9g", prim,
                dist, h_bf.prim, h_bf.t);
     if (prim == TT_INVALID_ID || !v->cam.has_light) return;
@@ -273,7 +273,7 @@ static void kd_pixel(const view_frame *v, const tt_accel *accel, uint32_t x, uin
                "(%llu nodes)",
                prim, dist, end, (unsigned long long)st_gpu.nodes, h_cpu.prim, h_cpu.t,
                args.end_hint, (unsigned long long)st_cpu.nodes);
-    if (!tt_test_hits_agree(&h_gpu, &h_bf))
+    if (!tt_test_hits_agree_t(&h_gpu, &h_bf))
         report(c, &c->bad_ref, x, y, "GPU code prim %u t %.9g, bruteforce prim %u t %.9g", prim,
                dist, h_bf.prim, h_bf.t);
     if (prim == TT_INVALID_ID || !v->cam.has_light) return;

@@ -115,7 +115,7 @@ static inline size_t hard_variants(const char *name, hard_variant *v)
         for (int k = 0; k < 3; k++) {
             for (int isa = TT_ISA_SCALAR; isa <= TT_ISA_AVX512 + 1; isa++) {
                 const int stackless = isa == TT_ISA_AVX512 + 1;
-                if (!stackless && !tt_isa_supported((tt_isa)isa)) continue;
+                if (!stackless && !tt_test_isa_runs((tt_isa)isa)) continue;
                 r = o;
                 r.rtree.layout = TT_RTREE_LAYOUT_COMPACT;
                 r.rtree.m = cm[k][0], r.rtree.M = cm[k][1];
@@ -161,8 +161,8 @@ static inline size_t hard_variants(const char *name, hard_variant *v)
                 }
         /* The variants above run the best ISA (options.isa auto); every
          * other ISA this CPU runs, each traversal once. */
-        for (int i = TT_ISA_SCALAR; i < (int)tt_isa_best(); i++) {
-            if (!tt_isa_supported((tt_isa)i)) continue;
+        for (int i = TT_ISA_SCALAR; i <= TT_ISA_AVX512; i++) {
+            if (!tt_test_isa_runs((tt_isa)i) || i == (int)tt_isa_best()) continue;
             for (int t = TT_KD_HTR; t <= TT_KD_SEQ; t++) {
                 tt_build_options k = o;
                 k.isa = (tt_isa)i;

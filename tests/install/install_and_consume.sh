@@ -75,6 +75,9 @@ assert tt.library_path.startswith('$libdir'), tt.library_path
 s = tt.Scene.from_arrays(np.array([[0,0,0],[1,0,0],[0,1,0]]), [[0,1,2]])
 h = tt.Accel(s, 'rtree').intersect([[0.2,0.2,1]], [0,0,-1])
 assert h.prim[0] == 0 and h.t[0] == 1.0
+import importlib.util, os
+assert os.path.exists(os.path.join(os.path.dirname(tt.__file__), 'py.typed')), 'py.typed not installed'
+assert importlib.util.find_spec('treetrace.plots'), 'treetrace.plots not installed'
 print('python package from pip, library', tt.library_path)
 ")
 else

@@ -75,7 +75,16 @@ static void test_file_round_trip(tt_context *ctx)
     size_t n = fp ? fread(back, 1, sizeof back, fp) : 0;
     if (fp) fclose(fp);
     CHECK(n == 16 && memcmp(back, data, 16) == 0);
+    /* an empty write still makes the file (it replaces an older one) */
+    fp = fopen(tmp("empty.bin"), "wb");
+    if (fp) fputs("old content", fp), fclose(fp);
     CHECK_OK(ctx, tt_write_file(ctx, tmp("empty.bin"), NULL, 0));
+    fp = fopen(tmp("empty.bin"), "rb");
+    CHECK_MSG(fp != NULL, "tt_write_file(n = 0) did not create %s", tmp("empty.bin"));
+    if (fp) {
+        CHECK_MSG(fgetc(fp) == EOF, "tt_write_file(n = 0) left content in %s", tmp("empty.bin"));
+        fclose(fp);
+    }
     const char *bad = "/nonexistent-dir-of-treetrace/x.hits";
     CHECK(tt_write_file(ctx, bad, data, 16) == TT_ERR_IO);
     CHECK(strstr(tt_context_last_error(ctx), bad) != NULL);
@@ -86,6 +95,21 @@ static int same(const uint8_t *a, const uint8_t *b) { return a[0] == b[0] && a[1
 static void test_colour_scale(void)
 {
     uint8_t c[3], prev[3];
+    /* Pinned from the scale's definition (jet over count/255, channels
+     * 1.5 - |4v - k| clamped, rounded): 0 is (0, 0, 0.5) -> (0, 0, 128),
+     * 255 is (0.5, 0, 0) -> (128, 0, 0). At 128, v = 128/255: green 1, and
+     * red and blue land on 129.5 and 125.5 exactly, where the float
+     * evaluation (v, 4v - 3, 4v - 1 each rounded) decides: 130 and 125. */
+    static const struct {
+        uint32_t count;
+        uint8_t rgb[3];
+    } pinned[] = {{0, {0, 0, 128}}, {128, {130, 255, 125}}, {255, {128, 0, 0}}};
+    for (size_t i = 0; i < sizeof pinned / sizeof pinned[0]; i++) {
+        tt_heat_colour(pinned[i].count, c);
+        CHECK_MSG(same(c, pinned[i].rgb), "count %u: (%u, %u, %u), pinned (%u, %u, %u)",
+                  pinned[i].count, c[0], c[1], c[2], pinned[i].rgb[0], pinned[i].rgb[1],
+                  pinned[i].rgb[2]);
+    }
     tt_heat_colour(0, c);
     CHECK(c[0] == 0 && c[1] == 0 && c[2] >= 100 && c[2] <= 160); /* dark blue */
     tt_heat_colour(255, c);

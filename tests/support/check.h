@@ -54,8 +54,39 @@ int tt_test_finish(void);
 /* A context that aborts the test on creation failure. */
 tt_context *tt_test_context(void);
 
+/* Ends the program as skipped (exit 77, ctest: skipped) saying why, unless a
+ * check already failed: then it exits 1 (a skip never hides a failure). */
+void tt_test_skip(const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 1, 2), noreturn))
+#endif
+    ;
+
+/* Whether this machine must trace on a GPU: /dev/nvidia0 exists or
+ * TT_REQUIRE_GPU=1 is set. GPU tests then fail, instead of skipping, when
+ * the GPU cannot be used (a driver mismatch must not stay green). */
+int tt_test_gpu_required(void);
+/* For a GPU test that found no usable GPU (st, why: tt_device_check's status
+ * and message): fails the program when tt_test_gpu_required() (for a build
+ * without CUDA, TT_ERR_UNSUPPORTED: only when TT_REQUIRE_GPU=1), else skips
+ * saying why. */
+void tt_test_no_gpu(tt_status st, const char *why)
+#if defined(__GNUC__)
+    __attribute__((noreturn))
+#endif
+    ;
+
+/* Whether a test may run isa's kernels here (tt_isa_supported). A run ISA
+ * is recorded and tt_test_finish prints the list ("ISAs compared: ...");
+ * an ISA compiled into this binary that this CPU cannot run is announced
+ * once ("SKIPPED: ... compiled in, this CPU cannot run it") and makes
+ * tt_test_finish exit 77 (a visible skip) when nothing failed, so a CPU
+ * without AVX2 or AVX-512 never shows a green "scalar against scalar".
+ * TT_TEST_HIDE_ISAS=avx2,avx512 pretends this CPU lacks those. */
+int tt_test_isa_runs(tt_isa isa);
+
 /* Path of a shared scene file (TT_SCENES_DIR/file); when the shared folder is
- * absent, prints why and exits 77 (ctest: skipped). */
+ * absent, tt_test_skip()s saying so. */
 const char *tt_test_scene_path(const char *file);
 /* Loads a shared scene, skipping as above, failing the test on a load error. */
 tt_scene *tt_test_load_scene(tt_context *ctx, const char *file);

@@ -46,7 +46,7 @@ static void one(const tt_kdtree *tree, int seq, const tt_ray *ray, int any, uint
 }
 
 static void view(tt_context *ctx, const tt_scene *scene, const tt_accel *a, const char *name,
-                 uint32_t w, uint32_t h)
+                 uint32_t w, uint32_t h, int need_spend)
 {
     const tt_kdtree *tree = tt_kdtree_of(a);
     tt_camera cam;
@@ -77,8 +77,8 @@ static void view(tt_context *ctx, const tt_scene *scene, const tt_accel *a, cons
         CHECK_MSG(prim.fell_back == 0 && shadow.fell_back == 0,
                   "%s %s: %zu primary and %zu shadow rays fell back", name, tr, prim.fell_back,
                   shadow.fell_back);
-        CHECK_MSG(prim.searched + shadow.searched > 0, "%s %s: no ray spent anything on a near tie",
-                  name, tr);
+        CHECK_MSG(!need_spend || prim.searched + shadow.searched > 0,
+                  "%s %s: no ray spent anything on a near tie", name, tr);
         CHECK_MSG(prim.differ == 0 && shadow.differ == 0,
                   "%s %s: %zu primary and %zu shadow answers differ from HTR's", name, tr,
                   prim.differ, shadow.differ);
@@ -89,16 +89,23 @@ static void scene_views(tt_context *ctx, const char *file, const char *const *na
                         uint32_t w, uint32_t h)
 {
     tt_scene *scene = tt_test_load_scene(ctx, file);
-    /* the tree the measurement above used: sparse boxes every
-     * TT_KD_DMIN_BOXES levels, what the stackless traversals get by default */
-    tt_build_options o;
-    tt_build_options_default(&o);
-    o.accel = "kdtree";
-    o.kdtree.traversal = TT_KD_SLTR;
-    tt_accel *a = NULL;
-    REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &o, &a));
-    for (size_t i = 0; i < n; i++) view(ctx, scene, a, names[i], w, h);
-    tt_accel_destroy(a);
+    /* Sparse boxes every TT_KD_DMIN_BOXES levels, what the stackless
+     * traversals get by default; twice: the default tree (no ray may fall
+     * back), and the deeper tree of C_I 0.5, the default when the
+     * measurement above was made, whose many more planes make near ties on
+     * every scene (the default cornell tree has 9 nodes and none), so that
+     * the test always sees rays spend. */
+    for (int deep = 0; deep < 2; deep++) {
+        tt_build_options o;
+        tt_build_options_default(&o);
+        o.accel = "kdtree";
+        o.kdtree.traversal = TT_KD_SLTR;
+        if (deep) o.kdtree.cost_intersect = 0.5f;
+        tt_accel *a = NULL;
+        REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &o, &a));
+        for (size_t i = 0; i < n; i++) view(ctx, scene, a, names[i], w, h, deep);
+        tt_accel_destroy(a);
+    }
     tt_scene_destroy(scene);
 }
 

@@ -58,7 +58,7 @@ static void view(tt_context *ctx, const char *file, const char *view_name, uint3
         const int m = compact_mm[k].m, M = compact_mm[k].M;
         /* the stack traversal (and its aliases) on every ISA */
         for (int isa = TT_ISA_FIRST; isa <= TT_ISA_LAST; isa++) {
-            if (!tt_isa_supported((tt_isa)isa)) continue;
+            if (!tt_test_isa_runs((tt_isa)isa)) continue;
             tt_build_options o = compact_options(TT_RTREE_STACK, m, M, (tt_isa)isa);
             one(ctx, scene, random ? bf : NULL, ref, view_name, &o);
         }

@@ -39,7 +39,9 @@ int main(void)
     rays[1].tmin = -1.0f;
     ok = ok && tt_intersect(accel, rays, 3, hits, NULL, NULL) == TT_ERR_INVALID_ARGUMENT &&
          strstr(tt_context_last_error(ctx), "ray 1 of 3") != NULL;
-    printf("treetrace %s: %s\n", tt_version(), ok ? "ok" : "WRONG");
+    /* the installed library is the one whose header this was built with */
+    ok = ok && strcmp(tt_version(), TT_VERSION_STRING) == 0;
+    printf("treetrace %s (header %s): %s\n", tt_version(), TT_VERSION_STRING, ok ? "ok" : "WRONG");
     tt_accel_destroy(accel);
     tt_scene_destroy(scene);
     tt_context_destroy(ctx);

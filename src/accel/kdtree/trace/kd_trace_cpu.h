@@ -28,11 +28,13 @@ typedef struct tt_kd_kernels {
 } tt_kd_kernels;
 
 /* The kernels for a resolved isa: AVX2 and AVX-512 test leaves of four or
- * more triangles eight at a time with gathers (kd_leaf_gather.h); scalar
- * and SSE4.2 (no gathers) the scalar loop: the gathered kernel measured
- * only level with the scalar loop (leaves hold about three triangles), so
- * a four-lane one was not written. Scenes whose 9 * id overflows a
- * gather's 32-bit index take the scalar loop. */
+ * more triangles eight at a time (kd_leaf_gather.h: plain loads and a
+ * transpose, once gathers); scalar and SSE4.2 the scalar loop: the
+ * gathered kernel measured only level with the scalar loop when leaves
+ * held about three triangles (C_I 0.5), so a four-lane one was not
+ * written; with the transposed loads and the default C_I 0.2 a four-lane
+ * SSE4.2 kernel may now pay (not measured). Scenes whose 9 * id overflows
+ * a 32-bit index take the scalar loop (a limit of the gathers, kept). */
 tt_kd_kernels tt_kd_cpu_kernels(tt_isa isa, size_t triangle_count);
 
 #if defined(TT_HAVE_X86_KERNELS)

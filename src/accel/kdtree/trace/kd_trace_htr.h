@@ -48,6 +48,7 @@ TT_HD int TT_VARIANT(tt_kd_htr_general)(const tt_kd_view *T, const tt_wray *r, i
     tt_kd_band band;
     tt_kd_band_init(&band, r);
     if (!tt_kd_root_interval(T, r, &band, &ta, &tb)) return 0;
+    tb = tt_kd_min(tb, r->tmax);
     int sp = 0;
     uint32_t node = 0;
     for (;;) {
@@ -119,6 +120,10 @@ TT_HD int TT_VARIANT(tt_kd_htr_moving)(const tt_kd_view *T, const tt_wray *r, in
     tt_kd_band band;
     tt_kd_band_init(&band, r);
     if (!tt_kd_root_interval(T, r, &band, &ta, &tb)) return 0;
+    /* Cells beginning past tmax hold no hit (the stack drops them anyway);
+     * cut here, a split beyond tmax (a shadow ray's light, often inside
+     * the scene) takes the near child alone and pushes nothing. */
+    tb = tt_kd_min(tb, r->tmax);
     for (int k = 0; k < 3; k++) {
         const float m =
             tt_kd_max(fabsf(TT_LDG(&T->aug[0].lo[k])), fabsf(TT_LDG(&T->aug[0].hi[k])));
