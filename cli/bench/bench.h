@@ -5,6 +5,8 @@
  *   bench_scenes.c    scenes.tsv / views.tsv of the scenes folder
  *   bench_matrix.c    which runs each table needs (scene x view x structure
  *                     x build options x traversal x ray kind x size)
+ *   bench_yard*.c     the engine table (E): our batch calls against Embree's
+ *                     own loops (bench_yard.h, bench_embree.h, embree/)
  *   bench_runner.c    loads, builds and renders; fills the results
  *   bench_agree.c     hit buffers against Embree's, per the conventions
  *   bench_csv.c       results.csv
@@ -38,7 +40,7 @@ enum {
     BENCH_F5 = 1 << 4, /* Feldmann Table 5: construction times              */
     BENCH_H1 = 1 << 5, /* Havran & Bittner Table 1: kd traversals           */
     BENCH_H3 = 1 << 6, /* Havran & Bittner Figure 3: d_min sweep            */
-    BENCH_E1 = 1 << 7, /* the engine table: defaults and builders vs Embree */
+    BENCH_E1 = 1 << 7, /* the engine table: batch calls vs Embree's loops   */
     BENCH_ALL_TABLES = (1 << 8) - 1
 };
 
@@ -75,6 +77,13 @@ typedef struct bench_options {
     int heatmaps;
     double budget_s; /* timed repeats are cut so one run stays near this */
     tt_device device; /* TT_DEVICE_GPU: the GPU's configurations again on it */
+    /* The engine table (E, bench_yard.h): its structures are built this
+     * many times (the minimum is reported), it times `rounds` interleaved
+     * rounds (5 like raybench; --repeat sets it too), and each primary hit
+     * casts ao_samples ambient-occlusion rays. */
+    int builds;
+    int rounds;
+    int ao_samples;
 } bench_options;
 
 /* Parses argv (argv[0] = "bench"). Returns 0 ok, 1 --help was printed (exit
@@ -150,13 +159,6 @@ tt_build_options bench_rtree_build(tt_rtree_strategy s, int reinsert, tt_rtree_t
 /* dmin < 0: no sparse boxes. */
 tt_build_options bench_kdtree_build(tt_kd_builder builder, int dmin, tt_kd_traversal t);
 tt_build_options bench_named_build(const char *accel);
-/* The engine table's rows, in order (the first is Embree at medium build
- * quality, the reference of the ratios). */
-typedef struct bench_engine_config {
-    char label[64];
-    tt_build_options build;
-} bench_engine_config;
-const bench_engine_config *bench_engine_configs(size_t *count);
 /* Whether the GPU traces this configuration (rtree: auto, stackless,
  * ordered; kdtree: sltr, htr without the caster hint). */
 int bench_gpu_traces(const tt_build_options *b);
@@ -205,6 +207,9 @@ typedef struct bench_results {
     size_t skipped_count;
     double total_s;
     int threads; /* the threads the renders ran on                   */
+    /* The engine table's measurements (bench_yard.h; NULL without E):
+     * not renders, so not in the matrix. Owned by the caller. */
+    const struct bench_yard *engine;
 } bench_results;
 
 /* Runs the whole matrix, writing heatmaps under out_dir/heatmaps. */

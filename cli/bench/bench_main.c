@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include "bench/bench.h"
+#include "bench/bench_yard.h"
 
 static int run_bench(const bench_options *o, FILE *err)
 {
@@ -67,21 +68,50 @@ static int run_bench(const bench_options *o, FILE *err)
         fprintf(err, "treetrace bench: out of memory\n");
         goto done_scenes;
     }
-    if (bench_run_all(ctx, o, &scenes, &m, out, &res, err) != 0) goto done_matrix;
+    /* the papers' tables (renders); none with --only E */
+    if (m.count && bench_run_all(ctx, o, &scenes, &m, out, &res, err) != 0) goto done_matrix;
+    /* the engine table: batch calls against Embree's own loops, not renders */
+    bench_yard yard;
+    memset(&yard, 0, sizeof yard);
+    if ((o->tables & BENCH_E1) && bench_yard_run(ctx, o, &scenes, &yard, err) != 0) {
+        bench_results_free(&res);
+        bench_yard_free(&yard);
+        goto done_matrix;
+    }
+    res.engine = (o->tables & BENCH_E1) ? &yard : NULL;
+    if (!m.count) res.threads = yard.threads;
+    res.total_s += yard.total_s;
     char path[4200];
-    snprintf(path, sizeof path, "%s/results.csv", out);
-    int bad = bench_write_csv(path, &scenes, &m, &res, err);
+    int bad = 0;
+    if (m.count) {
+        snprintf(path, sizeof path, "%s/results.csv", out);
+        bad |= bench_write_csv(path, &scenes, &m, &res, err);
+    }
+    if (res.engine) {
+        snprintf(path, sizeof path, "%s/engine.csv", out);
+        bad |= bench_yard_write_csv(path, &scenes, &yard, err);
+    }
     bad |= bench_write_report(ctx, out, o, &scenes, &m, &res, err);
     if (!bad) bad |= bench_figures_draw(out, err);
     if (!bad) {
         size_t failed = 0;
         for (size_t i = 0; i < res.count; i++)
             failed += !res.items[i].ok && strcmp(res.items[i].error, "not in this build") != 0;
-        fprintf(err, "treetrace bench: wrote %s/results.csv and %s/report.md", out, out);
+        size_t engine_failed = 0;
+        for (size_t i = 0; i < yard.count; i++) {
+            size_t nc;
+            bench_engine_configs(&nc);
+            for (size_t c = 0; c < nc; c++) engine_failed += !yard.views[i].configs[c].ok;
+        }
+        fprintf(err, "treetrace bench: wrote %s/ (%s%sreport.md)", out,
+                m.count ? "results.csv, " : "", res.engine ? "engine.csv, " : "");
         if (failed) fprintf(err, " (%zu runs failed; see the csv's error column)", failed);
+        if (engine_failed)
+            fprintf(err, " (%zu engine-table measurements failed; see engine.csv)", engine_failed);
         fputc('\n', err);
-        rc = failed ? 1 : 0;
+        rc = failed || engine_failed ? 1 : 0;
     }
+    bench_yard_free(&yard);
     bench_results_free(&res);
 done_matrix:
     bench_matrix_free(&m);

@@ -1,7 +1,8 @@
 /* The benchmark's matrix: for every selected table, the runs it needs
  * (scene x view x structure x build options x traversal x ray kind), plus
  * the Embree run each is compared with. A run needed by several tables is
- * made once; its table bits say where it is reported. */
+ * made once; its table bits say where it is reported. The engine table (E)
+ * has no runs here: it times batch calls, not renders (bench_yard.h). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -102,66 +103,6 @@ tt_build_options bench_kdtree_build(tt_kd_builder builder, int dmin, tt_kd_trave
     b.kdtree.dmin = dmin;
     b.kdtree.traversal = t;
     return b;
-}
-
-/* The engine table's configurations: the library's defaults but for the
- * builder and layout (what a new user gets, and each alternative), beside
- * Embree at medium build quality, the issues' reference. */
-static bench_engine_config engine_configs[16];
-static size_t engine_count;
-
-static void engine_add(const char *label, tt_build_options b)
-{
-    engine_configs[engine_count].build = b;
-    snprintf(engine_configs[engine_count].label, sizeof engine_configs[0].label, "%s", label);
-    engine_count++;
-}
-
-const bench_engine_config *bench_engine_configs(size_t *count)
-{
-    if (!engine_count) {
-        tt_build_options b;
-        tt_build_options_default(&b);
-        b.accel = "embree";
-        b.embree.quality = TT_EMBREE_MEDIUM;
-        engine_add("Embree 3 (medium)", b);
-        static const struct {
-            const char *label;
-            tt_rtree_build build;
-            tt_rtree_layout layout;
-        } rt[] = {
-            {"rtree insert, complete (Feldmann)", TT_RTREE_BUILD_INSERT, TT_RTREE_LAYOUT_COMPLETE},
-            {"rtree insert, compact", TT_RTREE_BUILD_INSERT, TT_RTREE_LAYOUT_COMPACT},
-            {"rtree str, compact", TT_RTREE_BUILD_STR, TT_RTREE_LAYOUT_COMPACT},
-            {"rtree hilbert, compact", TT_RTREE_BUILD_HILBERT, TT_RTREE_LAYOUT_COMPACT},
-            {"rtree sah, complete", TT_RTREE_BUILD_SAH, TT_RTREE_LAYOUT_COMPLETE},
-            {"rtree sah, compact", TT_RTREE_BUILD_SAH, TT_RTREE_LAYOUT_COMPACT},
-        };
-        for (size_t i = 0; i < sizeof rt / sizeof rt[0]; i++) {
-            tt_build_options_default(&b);
-            b.accel = "rtree";
-            b.rtree.build = rt[i].build;
-            b.rtree.layout = rt[i].layout;
-            /* resolved as the library resolves M = 0, so that a run equal
-             * to another table's is made once */
-            b.rtree.M = tt_rtree_max_entries(&b.rtree);
-            engine_add(rt[i].label, b);
-        }
-        static const struct {
-            const char *label;
-            tt_kd_builder builder;
-        } kd[] = {{"kdtree nlogn, htr", TT_KD_NLOGN}, {"kdtree binned, htr", TT_KD_BINNED}};
-        for (size_t i = 0; i < sizeof kd / sizeof kd[0]; i++) {
-            tt_build_options_default(&b);
-            b.accel = "kdtree";
-            b.kdtree.builder = kd[i].builder;
-            b.kdtree.traversal = TT_KD_HTR;
-            b.kdtree.dmin = tt_kdtree_dmin(&b.kdtree); /* auto resolved, as for M */
-            engine_add(kd[i].label, b);
-        }
-    }
-    *count = engine_count;
-    return engine_configs;
 }
 
 tt_build_options bench_named_build(const char *accel)
@@ -271,14 +212,6 @@ static void havran(ctx *c, const bench_options *o, int default_dmin)
     }
 }
 
-static void engine(ctx *c, const bench_options *o)
-{
-    if (!(o->tables & BENCH_E1)) return;
-    size_t n;
-    const bench_engine_config *cf = bench_engine_configs(&n);
-    for (size_t i = 0; i < n; i++) run(c, o->rtree_size, cf[i].build, BENCH_PRIMARY_SHADOW, BENCH_E1, 0);
-}
-
 int bench_gpu_traces(const tt_build_options *b)
 {
     if (strcmp(b->accel, "rtree") == 0)
@@ -319,7 +252,6 @@ int bench_matrix_make(const bench_options *o, const bench_scene_list *scenes, be
         for (c.view = 0; c.view < scenes->items[c.scene].view_count; c.view++) {
             feldmann(&c, o);
             havran(&c, o, TT_KD_DMIN_BOXES);
-            engine(&c, o);
         }
     }
     if (!c.fail && o->device == TT_DEVICE_GPU && add_gpu_runs(m)) c.fail = 1;

@@ -31,6 +31,9 @@ int main(void)
     expect_bad("--dmin 0", "--dmin", log);
     expect_bad("--dmin 5-2", "--dmin", log);
     expect_bad("--budget -1", "--budget", log);
+    expect_bad("--builds 0", "--builds", log);
+    expect_bad("--ao 0", "--ao", log);
+    expect_bad("--ao x", "--ao", log);
     expect_bad("--quick=1", "--quick takes no value", log);
     expect_bad("--all-views --first-view", "contradict", log);
     expect_bad("--scenes /nonexistent/folder", "/nonexistent/folder", log);
@@ -41,7 +44,7 @@ int main(void)
     CHECK(rc == 0);
     char *out = read_text(log);
     CHECK(out && strstr(out, "usage: treetrace bench") && strstr(out, "--quick") &&
-          strstr(out, "--only"));
+          strstr(out, "--only") && strstr(out, "--builds") && strstr(out, "--ao"));
     free(out);
 
     remove_tree(scenes);
