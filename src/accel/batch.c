@@ -167,6 +167,8 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
     const tt_batch_options *o = options ? options : &def;
     const tt_accel_vtable *vt = accel->vt;
     const int threads = threads_of(accel);
+    tt_status entered = tt_accel_trace_enter(accel, call);
+    if (entered != TT_OK) return entered;
     plan p;
     plan_make(&p, n, o, threads);
     size_t bad = SIZE_MAX, bad_count = 0;
@@ -205,6 +207,7 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
             tt_ray_stats_add(o->stats, &local);
         }
     }
+    tt_accel_trace_leave(accel);
     return report_bad(accel, rays, n, bad, bad_count, call);
 }
 

@@ -38,6 +38,8 @@ const char *tt_strerror(tt_status status)
     case TT_ERR_NO_DEVICE: return "no usable device";
     case TT_ERR_INVARIANT: return "broken invariant";
     case TT_ERR_INTERNAL: return "internal error";
+    case TT_ERR_BUSY: return "busy: an edit or update overlapped traces";
+    case TT_ERR_STALE: return "structure out of date with its scene";
     }
     return "unknown status";
 }

@@ -40,11 +40,16 @@ static tt_status grow_pool(rt_builder *b)
 
 static tt_status new_node(rt_builder *b, int level, uint32_t *out)
 {
-    if (b->node_count == b->node_cap) {
-        tt_status st = grow_pool(b);
-        if (st != TT_OK) return st;
+    uint32_t n;
+    if (b->free_count) { /* a node a deletion gave back (rtree/update/) */
+        n = b->free_node[--b->free_count];
+    } else {
+        if (b->node_count == b->node_cap) {
+            tt_status st = grow_pool(b);
+            if (st != TT_OK) return st;
+        }
+        n = b->node_count++;
     }
-    uint32_t n = b->node_count++;
     b->hdr[n].parent = TT_INVALID_ID;
     b->hdr[n].slot = 0;
     b->hdr[n].count = 0;
@@ -116,6 +121,8 @@ static void add_entry(rt_builder *b, uint32_t n, const float e[6], uint32_t c)
     if (b->hdr[n].level > 0) {
         b->hdr[c].parent = n;
         b->hdr[c].slot = (uint8_t)i;
+    } else if (b->leaf_of) {
+        b->leaf_of[c] = n; /* every triangle lands here, whatever moved it */
     }
 }
 
@@ -440,4 +447,15 @@ tt_status rt_builder_insert_triangle(rt_builder *b, uint32_t id)
     tt_status st = insert_entry(b, b->tri_box + 6 * (size_t)id, id, 0);
     if (st == TT_OK) b->triangles++;
     return st;
+}
+
+tt_status rt_builder_new_node(rt_builder *b, int level, uint32_t *out)
+{
+    return new_node(b, level, out);
+}
+
+tt_status rt_builder_insert_entry(rt_builder *b, const float e[6], uint32_t c, int level)
+{
+    b->reinserted_levels = 0;
+    return insert_entry(b, e, c, level);
 }
