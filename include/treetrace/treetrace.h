@@ -498,6 +498,9 @@ tt_status tt_scene_set_triangles(tt_scene *scene, const uint32_t *ids, const flo
  * order; triangles added or detached later have vertices past those. */
 tt_status tt_scene_move_vertices(tt_scene *scene, const uint32_t *ids, const float *positions,
                                  size_t n);
+/* Vertex i's position (3 floats): e.g. the rest pose a deformation starts
+ * from; TT_ERR_INVALID_ARGUMENT for i >= tt_scene_vertex_count(). */
+tt_status tt_scene_vertex(const tt_scene *scene, size_t i, float out[3]);
 /* 1 when id is a live triangle of the scene. */
 int tt_scene_triangle_alive(const tt_scene *scene, uint32_t id);
 size_t tt_scene_live_triangle_count(const tt_scene *scene);

@@ -196,16 +196,19 @@ tt_status tt_occluded1(const tt_accel *accel, const tt_ray *ray, int *occluded)
 
 tt_status tt_accel_trace_enter(const tt_accel *accel, const char *call)
 {
-    if (accel->version != accel->scene->version)
-        return tt_error(accel->ctx, TT_ERR_STALE,
-                        "%s: the scene was edited after this %s structure was built or updated "
-                        "(scene version %llu, structure %llu): call tt_accel_update first", call,
-                        accel->vt->name, (unsigned long long)accel->scene->version,
-                        (unsigned long long)accel->version);
+    /* the guard first: the versions are written under a writer's hold */
     if (!tt_scene_trace_enter(accel->scene))
         return tt_error(accel->ctx, TT_ERR_BUSY,
                         "%s: the scene is being edited or updated on another thread; traces "
                         "must not overlap edits (treetrace.h: the threading contract)", call);
+    if (accel->version != accel->scene->version) {
+        const unsigned long long sv = accel->scene->version, av = accel->version;
+        tt_scene_trace_leave(accel->scene);
+        return tt_error(accel->ctx, TT_ERR_STALE,
+                        "%s: the scene was edited after this %s structure was built or updated "
+                        "(scene version %llu, structure %llu): call tt_accel_update first", call,
+                        accel->vt->name, sv, av);
+    }
     return TT_OK;
 }
 

@@ -97,8 +97,13 @@ static void detach(tt_scene *s, size_t t)
 static void recompute_bounds(tt_scene *s)
 {
     s->bounds = tt_aabb_empty();
+    float *lo = s->bounds.lo, *hi = s->bounds.hi;
     for (size_t t = 0; t < s->triangle_count; t++)
-        for (int k = 0; k < 3; k++) tt_aabb_grow_point(&s->bounds, s->tri + 9 * t + 3 * k);
+        for (int q = 0; q < 9; q++) {
+            const float x = s->tri[9 * t + (size_t)q];
+            if (x < lo[q % 3]) lo[q % 3] = x;
+            if (x > hi[q % 3]) hi[q % 3] = x;
+        }
 }
 
 static int touches_bounds(const tt_scene *s, const float *tri)
@@ -324,15 +329,21 @@ tt_status tt_scene_move_vertices(tt_scene *s, const uint32_t *ids, const float *
             shrink |= p[k] == s->bounds.lo[k] || p[k] == s->bounds.hi[k];
         memcpy(p, pos + 3 * i, 3 * sizeof(float));
     }
-    if (all) {
+    if (all) { /* one pass: re-read, stamp what changed, bounds anew */
         for (size_t t = 0; t < s->triangle_count; t++) {
             if (s->flags[t] & TT_TRI_DEAD) continue;
-            float old[9];
-            memcpy(old, s->tri + 9 * t, sizeof old);
-            refresh(s, t);
-            if (memcmp(old, s->tri + 9 * t, sizeof old) != 0) s->stamp[t] = v;
+            float *p = s->tri + 9 * t;
+            int moved = 0;
+            for (int k = 0; k < 3; k++) {
+                const float *q = s->vertices + 3 * (size_t)s->indices[3 * t + (size_t)k];
+                moved |= p[3 * k] != q[0] || p[3 * k + 1] != q[1] || p[3 * k + 2] != q[2];
+                p[3 * k] = q[0];
+                p[3 * k + 1] = q[1];
+                p[3 * k + 2] = q[2];
+            }
+            if (moved) s->stamp[t] = v;
         }
-        recompute_bounds(s); /* refresh only grows them */
+        recompute_bounds(s);
     } else {
         for (size_t i = 0; i < n; i++) {
             const uint32_t vx = ids ? ids[i] : (uint32_t)i;
@@ -360,3 +371,10 @@ size_t tt_scene_live_triangle_count(const tt_scene *s)
 }
 
 uint64_t tt_scene_version(const tt_scene *s) { return s ? s->version : 0; }
+
+tt_status tt_scene_vertex(const tt_scene *s, size_t i, float out[3])
+{
+    if (!s || !out || i >= s->vertex_count) return TT_ERR_INVALID_ARGUMENT;
+    memcpy(out, s->vertices + 3 * i, 3 * sizeof(float));
+    return TT_OK;
+}

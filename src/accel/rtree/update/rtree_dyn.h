@@ -64,7 +64,8 @@ tt_status rt_dyn_set_box(rt_dyn *d, uint32_t id);
  * clears the marks. `changed` (may be NULL) collects the nodes whose box in
  * their parent was rewritten, for the compact layout. */
 tt_status rt_dyn_refit(rt_dyn *d);
-/* Every interior box recomputed from the leaves' entries up. */
+/* Every box recomputed from the ids' boxes (tri_box) up: the refit of a
+ * deformation, one sequential pass instead of a climb per triangle. */
 void rt_dyn_refit_all(rt_dyn *d);
 
 /* The compact layout from the pointer tree (rtree_dyn_compact.c): a full
@@ -73,6 +74,8 @@ void rt_dyn_refit_all(rt_dyn *d);
 tt_status rt_dyn_repack(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *scene);
 void rt_dyn_write_lane(rt_dyn *d, rtc_tree *t, const tt_scene *scene, uint32_t id);
 void rt_dyn_write_box(rt_dyn *d, rtc_tree *t, uint32_t node);
+/* Every node's box written into the layout (after rt_dyn_refit_all). */
+void rt_dyn_write_all_boxes(rt_dyn *d, rtc_tree *t);
 
 /* The whole update: the ids stamped after `since` (tt_accel_update). */
 tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *scene,

@@ -70,12 +70,25 @@ tt_status rt_dyn_from_compact(rt_dyn *d, tt_context *ctx, const tt_rtree_options
     d->b.node_count = 0; /* init's empty root leaf is not wanted */
     st = rt_dyn_reserve_ids(d, scene->triangle_count ? scene->triangle_count : 1);
     if (st != TT_OK) return st;
+    /* the boxes the tree was built with: from the layout's own copy of the
+     * vertices (the scene may have moved them since), or the scene's for a
+     * lane without them (a zero-area triangle is stored as NaN) */
     for (size_t id = 0; id < scene->triangle_count; id++) {
         const float *v = scene->tri + 9 * id;
         float *bx = d->tri_box + 6 * id;
         for (int k = 0; k < 3; k++) {
             bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
             bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
+        }
+    }
+    for (uint64_t g = 0; g < (uint64_t)c->blocks * TT_TRI_BLOCK_W; g++) {
+        const tt_tri_block *bk = &c->block[g / TT_TRI_BLOCK_W];
+        const uint32_t l = (uint32_t)(g % TT_TRI_BLOCK_W), id = bk->prim[l];
+        if (id == TT_INVALID_ID || id >= scene->triangle_count || isnan(bk->v[0][l])) continue;
+        float *bx = d->tri_box + 6 * (size_t)id;
+        for (int k = 0; k < 3; k++) {
+            bx[k] = rt_min(rt_min(bk->v[k][l], bk->v[3 + k][l]), bk->v[6 + k][l]);
+            bx[k + 3] = rt_max(rt_max(bk->v[k][l], bk->v[3 + k][l]), bk->v[6 + k][l]);
         }
     }
     uint32_t root;
@@ -212,4 +225,23 @@ void rt_dyn_write_box(rt_dyn *d, rtc_tree *t, uint32_t n)
     }
     float *rec = (float *)tt_rtc_node(c, r);
     for (uint32_t k = 0; k < 6; k++) rec[k * c->S + slot] = box[k];
+}
+
+static void write_boxes(rt_dyn *d, const tt_rtc *c, uint32_t n)
+{
+    const rt_builder *b = &d->b;
+    if (b->hdr[n].level == 0) return;
+    float *rec = (float *)tt_rtc_node(c, d->rec_of[n]);
+    const float *s = rt_node_box(b, n);
+    const uint32_t *ch = rt_node_child(b, n);
+    for (int i = 0; i < b->hdr[n].count; i++) {
+        for (uint32_t k = 0; k < 6; k++) rec[k * c->S + (uint32_t)i] = s[k * (uint32_t)b->cap + (uint32_t)i];
+        write_boxes(d, c, ch[i]);
+    }
+}
+
+void rt_dyn_write_all_boxes(rt_dyn *d, rtc_tree *t)
+{
+    if (d->b.hdr[d->b.root].level == 0) rt_dyn_write_box(d, t, d->b.root);
+    else write_boxes(d, &t->c, d->b.root);
 }

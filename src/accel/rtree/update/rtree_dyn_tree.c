@@ -249,12 +249,17 @@ tt_status rt_dyn_refit(rt_dyn *d)
     return TT_OK;
 }
 
+/* Node n's entries from its children (leaves: from the ids' boxes). */
 static void refit_node(rt_dyn *d, uint32_t n)
 {
     rt_builder *b = &d->b;
-    if (b->hdr[n].level == 0) return;
     const uint32_t *ch = rt_node_child(b, n);
     float *s = rt_node_box(b, n);
+    if (b->hdr[n].level == 0) {
+        for (int i = 0; i < b->hdr[n].count; i++)
+            rt_soa_put(s, b->cap, i, d->tri_box + 6 * (size_t)ch[i]);
+        return;
+    }
     for (int i = 0; i < b->hdr[n].count; i++) {
         float cb[6];
         refit_node(d, ch[i]);

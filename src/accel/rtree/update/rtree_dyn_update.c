@@ -14,6 +14,7 @@
  * deleted or inserted, the moved lanes and the boxes that changed are
  * written in place; otherwise it is repacked from the pointer tree. */
 #include <math.h>
+#include <omp.h>
 #include <string.h>
 
 #include "accel/rtree/rtree_box.h"
@@ -78,7 +79,17 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
     /* 1. refits: new boxes into the leaves, marked for the climb */
     uint8_t *again = tt_calloc(ctx, changed ? changed : 1, 1); /* delete + insert */
     if (!again) st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
-    for (size_t i = 0; i < changed && st == TT_OK; i++) {
+    const int threads = tt_context_threads(ctx) > 0 ? tt_context_threads(ctx) : omp_get_max_threads();
+    if (deform) { /* every moved id refits: its new box, on the threads */
+#pragma omp parallel for schedule(static) num_threads(threads) reduction(+ : refit)
+        for (size_t i = 0; i < changed; i++) {
+            const uint32_t id = ids[i];
+            if (tt_scene_is_dead(scene, id) || d->leaf_of[id] == TT_INVALID_ID) continue;
+            tri_bounds(scene->tri + 9 * (size_t)id, d->tri_box + 6 * (size_t)id);
+            refit++;
+        }
+    }
+    for (size_t i = 0; i < changed && st == TT_OK && !deform; i++) {
         const uint32_t id = ids[i];
         if (tt_scene_is_dead(scene, id) || d->leaf_of[id] == TT_INVALID_ID) continue;
         float nb[6];
@@ -92,7 +103,10 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
         st = rt_dyn_set_box(d, id);
         refit++;
     }
-    if (st == TT_OK) st = rt_dyn_refit(d);
+    /* a deformation refits the whole tree in one pass; a few moves climb
+     * from their leaves */
+    if (st == TT_OK && deform) rt_dyn_refit_all(d);
+    else if (st == TT_OK) st = rt_dyn_refit(d);
     /* 2. deletions: removed ids and jumped ones */
     for (size_t i = 0; i < changed && st == TT_OK; i++) {
         const uint32_t id = ids[i];
@@ -112,9 +126,12 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
     double t1 = tt_now();
     /* 4. the compact layout */
     if (st == TT_OK && removed == 0 && inserted == 0 && !d->must_repack) {
+#pragma omp parallel for schedule(static) num_threads(threads)
         for (size_t i = 0; i < changed; i++)
             if (d->leaf_of[ids[i]] != TT_INVALID_ID) rt_dyn_write_lane(d, t, scene, ids[i]);
-        for (uint32_t j = 0; j < d->dirty_count; j++) rt_dyn_write_box(d, t, d->dirty_list[j]);
+        if (deform) rt_dyn_write_all_boxes(d, t);
+        else
+            for (uint32_t j = 0; j < d->dirty_count; j++) rt_dyn_write_box(d, t, d->dirty_list[j]);
     } else if (st == TT_OK) {
         st = rt_dyn_repack(d, ctx, t, scene);
         if (st == TT_OK) d->must_repack = 0;
