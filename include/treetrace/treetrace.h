@@ -158,7 +158,13 @@ typedef enum tt_rtree_strategy {
     TT_RTREE_MIN_SURFACE,
     TT_RTREE_MIN_OVERLAP,
     TT_RTREE_RSTAR,
-    TT_RTREE_RSTAR_SURFACE
+    TT_RTREE_RSTAR_SURFACE,
+    /* The RR*-tree's choice of subtree (Beckmann & Seeger 2009): an entry
+     * that already covers the box (the smallest), else among the entries
+     * by perimeter enlargement those whose growth would overlap the first,
+     * the one adding the least overlap (volume, or perimeter where a box
+     * is flat). Splits and forced reinsert as configured. */
+    TT_RTREE_RRSTAR
 } tt_rtree_strategy;
 
 typedef enum tt_rtree_split { TT_RTREE_SPLIT_RSTAR = 0, TT_RTREE_SPLIT_QUADRATIC } tt_rtree_split;

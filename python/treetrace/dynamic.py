@@ -154,3 +154,9 @@ Scene.live_triangle_count = property(lambda self: lib.tt_scene_live_triangle_cou
 Scene.version = property(lambda self: int(lib.tt_scene_version(self._h)))
 Accel.update = update
 Accel.updates_in_place = property(lambda self: bool(lib.tt_accel_updates_in_place(self._h)))
+
+# The RR*-tree's insertion strategy (issue 19) by name, beside the others.
+from . import core as _core  # noqa: E402
+
+if "rrstar" not in _core._STRATEGIES:
+    _core._STRATEGIES = _core._STRATEGIES + ("rrstar",)

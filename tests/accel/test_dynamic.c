@@ -30,7 +30,7 @@ typedef struct subject {
     tt_accel *a;
 } subject;
 
-enum { NSUB = 6 };
+enum { NSUB = 7 };
 
 static int make_subjects(subject *s)
 {
@@ -42,6 +42,8 @@ static int make_subjects(subject *s)
     s[n++] = (subject){"rtree insert compact M8", o, NULL};
     s[n - 1].o.rtree.M = 8;
     s[n - 1].o.rtree.m = 3;
+    o.rtree.strategy = TT_RTREE_RRSTAR; /* the RR*-tree's insertion, built and updated */
+    s[n++] = (subject){"rtree insert rrstar compact", o, NULL};
     tt_build_options_default(&o);
     o.rtree.layout = TT_RTREE_LAYOUT_COMPLETE;
     o.rtree.M = 4;
@@ -101,7 +103,7 @@ static void frames_on_bunny(tt_context *ctx)
     tt_accel *bf;
     build_all(ctx, scene, s, n, &bf);
     CHECK(tt_accel_updates_in_place(s[0].a) == 1);
-    CHECK(tt_accel_updates_in_place(s[2].a) == 0);
+    CHECK(tt_accel_updates_in_place(s[3].a) == 0); /* the complete layout rebuilds */
     CHECK(tt_accel_updates_in_place(bf) == 0);
     float lo[3], hi[3];
     tt_scene_bounds(scene, lo, hi);

@@ -25,7 +25,7 @@ static tt_status validate(tt_context *ctx, const tt_rtree_options *o)
 {
     if ((unsigned)o->build > TT_RTREE_BUILD_SAH)
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "rtree: unknown build %d", (int)o->build);
-    if ((unsigned)o->strategy > TT_RTREE_RSTAR_SURFACE)
+    if ((unsigned)o->strategy > TT_RTREE_RRSTAR)
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "rtree: unknown strategy %d",
                         (int)o->strategy);
     if ((unsigned)o->split > TT_RTREE_SPLIT_QUADRATIC)

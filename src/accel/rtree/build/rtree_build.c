@@ -176,6 +176,7 @@ static int choose_entry(const rt_builder *b, uint32_t n, const float e[6])
     const float *s = rt_node_box(b, n);
     const int cap = b->cap, cnt = h->count;
     const tt_rtree_strategy st = b->strategy;
+    if (st == TT_RTREE_RRSTAR) return rt_choose_rrstar(b, n, e);
     /* The R* variants minimise overlap only when choosing among leaves. */
     const int overlap = st == TT_RTREE_MIN_OVERLAP ||
                         (h->level == 1 && (st == TT_RTREE_RSTAR || st == TT_RTREE_RSTAR_SURFACE));

@@ -94,6 +94,10 @@ void rt_node_bounds(const rt_builder *b, uint32_t n, float out[6]);
  * tt_error naming the node and the broken rule. For white-box tests. */
 tt_status rt_builder_check(const rt_builder *b);
 
+/* The RR*-tree's choice of the entry of node n that receives box e
+ * (rtree_choose_rrstar.c; strategy TT_RTREE_RRSTAR). */
+int rt_choose_rrstar(const rt_builder *b, uint32_t n, const float e[6]);
+
 /* Splitting an overflowing node (rtree_split.c): fills group[i] with 0 or
  * 1 for each of the node's count entries, both groups holding >= m. */
 void rt_split_rstar(const rt_builder *b, uint32_t n, uint8_t *group);
