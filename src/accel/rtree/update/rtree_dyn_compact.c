@@ -42,7 +42,8 @@ static tt_status from_record(rt_dyn *d, const tt_rtc *c, uint32_t r, uint32_t *o
         if (level == 1) {
             st = rt_builder_new_node(b, 0, &child);
             if (st != TT_OK) break;
-            const uint64_t first = (uint64_t)(ref[i] >> 7) * TT_TRI_BLOCK_W + tt_rtc_leaf_lane(ref[i]);
+            const uint64_t first =
+                (uint64_t)tt_rtc_leaf_block(ref[i]) * TT_TRI_BLOCK_W + tt_rtc_leaf_lane(ref[i]);
             for (uint32_t k = 0; k < tt_rtc_leaf_count(ref[i]); k++) {
                 const uint64_t g = first + k;
                 const uint32_t id = c->block[g / TT_TRI_BLOCK_W].prim[g % TT_TRI_BLOCK_W];
@@ -152,7 +153,7 @@ size_t rt_dyn_bytes(const rt_dyn *d)
 static void map_leaf(rt_dyn *d, uint32_t leaf, uint32_t ref)
 {
     const rt_builder *b = &d->b;
-    const uint64_t first = (uint64_t)(ref >> 7) * TT_TRI_BLOCK_W + tt_rtc_leaf_lane(ref);
+    const uint64_t first = (uint64_t)tt_rtc_leaf_block(ref) * TT_TRI_BLOCK_W + tt_rtc_leaf_lane(ref);
     const uint32_t *ch = rt_node_child(b, leaf);
     for (int k = 0; k < b->hdr[leaf].count; k++) d->lane_of[ch[k]] = (uint32_t)(first + (uint64_t)k);
     d->rec_of[leaf] = TT_INVALID_ID;
@@ -217,34 +218,28 @@ void rt_dyn_write_box(rt_dyn *d, rtc_tree *t, uint32_t n)
 {
     const rt_builder *b = &d->b;
     const tt_rtc *c = &t->c;
-    float box[6];
-    uint32_t r, slot;
     if (n == b->root) {
         if (b->hdr[n].level != 0 || b->hdr[n].count == 0) return; /* no box of its own */
+        float box[6];
         rt_node_bounds(b, n, box); /* a leaf root: entry 0 of record 0 */
-        r = 0;
-        slot = 0;
-    } else {
-        const uint32_t p = b->hdr[n].parent;
-        rt_soa_get(rt_node_box(b, p), b->cap, b->hdr[n].slot, box);
-        r = d->rec_of[p];
-        slot = b->hdr[n].slot;
+        rtc_set_boxes(c, (float *)tt_rtc_node(c, 0), box, 1, 1);
+        return;
     }
-    float *rec = (float *)tt_rtc_node(c, r);
-    for (uint32_t k = 0; k < 6; k++) rec[k * c->S + slot] = box[k];
+    /* the parent's record, all its entries from the parent's boxes (the
+     * record's format stays behind rtc_set_boxes) */
+    const uint32_t p = b->hdr[n].parent;
+    rtc_set_boxes(c, (float *)tt_rtc_node(c, d->rec_of[p]), rt_node_box(b, p), (uint32_t)b->cap,
+                  b->hdr[p].count);
 }
 
 static void write_boxes(rt_dyn *d, const tt_rtc *c, uint32_t n)
 {
     const rt_builder *b = &d->b;
     if (b->hdr[n].level == 0) return;
-    float *rec = (float *)tt_rtc_node(c, d->rec_of[n]);
-    const float *s = rt_node_box(b, n);
+    rtc_set_boxes(c, (float *)tt_rtc_node(c, d->rec_of[n]), rt_node_box(b, n), (uint32_t)b->cap,
+                  b->hdr[n].count);
     const uint32_t *ch = rt_node_child(b, n);
-    for (int i = 0; i < b->hdr[n].count; i++) {
-        for (uint32_t k = 0; k < 6; k++) rec[k * c->S + (uint32_t)i] = s[k * (uint32_t)b->cap + (uint32_t)i];
-        write_boxes(d, c, ch[i]);
-    }
+    for (int i = 0; i < b->hdr[n].count; i++) write_boxes(d, c, ch[i]);
 }
 
 void rt_dyn_write_all_boxes(rt_dyn *d, rtc_tree *t)
