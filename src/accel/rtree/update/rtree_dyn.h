@@ -67,6 +67,8 @@ tt_status rt_dyn_refit(rt_dyn *d);
 /* Every box recomputed from the ids' boxes (tri_box) up: the refit of a
  * deformation, one sequential pass instead of a climb per triangle. */
 void rt_dyn_refit_all(rt_dyn *d);
+/* The same, the root's subtrees on `threads` threads. */
+void rt_dyn_refit_all_par(rt_dyn *d, int threads);
 
 /* The compact layout from the pointer tree (rtree_dyn_compact.c): a full
  * repack with the maps, or, when the tree's shape did not change, the
@@ -75,7 +77,7 @@ tt_status rt_dyn_repack(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
 void rt_dyn_write_lane(rt_dyn *d, rtc_tree *t, const tt_scene *scene, uint32_t id);
 void rt_dyn_write_box(rt_dyn *d, rtc_tree *t, uint32_t node);
 /* Every node's box written into the layout (after rt_dyn_refit_all). */
-void rt_dyn_write_all_boxes(rt_dyn *d, rtc_tree *t);
+void rt_dyn_write_all_boxes(rt_dyn *d, rtc_tree *t, int threads);
 
 /* The whole update: the ids stamped after `since` (tt_accel_update). */
 tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *scene,

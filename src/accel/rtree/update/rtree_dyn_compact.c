@@ -242,8 +242,19 @@ static void write_boxes(rt_dyn *d, const tt_rtc *c, uint32_t n)
     for (int i = 0; i < b->hdr[n].count; i++) write_boxes(d, c, ch[i]);
 }
 
-void rt_dyn_write_all_boxes(rt_dyn *d, rtc_tree *t)
+void rt_dyn_write_all_boxes(rt_dyn *d, rtc_tree *t, int threads)
 {
-    if (d->b.hdr[d->b.root].level == 0) rt_dyn_write_box(d, t, d->b.root);
-    else write_boxes(d, &t->c, d->b.root);
+    const rt_builder *b = &d->b;
+    const uint32_t root = b->root;
+    if (b->hdr[root].level == 0) {
+        rt_dyn_write_box(d, t, root);
+        return;
+    }
+    const tt_rtc *c = &t->c;
+    rtc_set_boxes(c, (float *)tt_rtc_node(c, d->rec_of[root]), rt_node_box(b, root),
+                  (uint32_t)b->cap, b->hdr[root].count);
+    const uint32_t *ch = rt_node_child(b, root);
+    const int cnt = b->hdr[root].count;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (int i = 0; i < cnt; i++) write_boxes(d, c, ch[i]);
 }

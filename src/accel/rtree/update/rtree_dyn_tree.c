@@ -268,4 +268,25 @@ static void refit_node(rt_dyn *d, uint32_t n)
     }
 }
 
-void rt_dyn_refit_all(rt_dyn *d) { refit_node(d, d->b.root); }
+void rt_dyn_refit_all(rt_dyn *d) { rt_dyn_refit_all_par(d, 1); }
+
+void rt_dyn_refit_all_par(rt_dyn *d, int threads)
+{
+    rt_builder *b = &d->b;
+    const uint32_t root = b->root;
+    if (b->hdr[root].level < 2 || threads < 2) {
+        refit_node(d, root);
+        return;
+    }
+    /* the root's subtrees are disjoint: one per thread at a time */
+    const uint32_t *ch = rt_node_child(b, root);
+    const int cnt = b->hdr[root].count;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (int i = 0; i < cnt; i++) refit_node(d, ch[i]);
+    float *s = rt_node_box(b, root);
+    for (int i = 0; i < cnt; i++) {
+        float cb[6];
+        rt_node_bounds(b, ch[i], cb);
+        rt_soa_put(s, b->cap, i, cb);
+    }
+}

@@ -105,7 +105,7 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
     }
     /* a deformation refits the whole tree in one pass; a few moves climb
      * from their leaves */
-    if (st == TT_OK && deform) rt_dyn_refit_all(d);
+    if (st == TT_OK && deform) rt_dyn_refit_all_par(d, threads);
     else if (st == TT_OK) st = rt_dyn_refit(d);
     /* 2. deletions: removed ids and jumped ones */
     for (size_t i = 0; i < changed && st == TT_OK; i++) {
@@ -129,7 +129,7 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
 #pragma omp parallel for schedule(static) num_threads(threads)
         for (size_t i = 0; i < changed; i++)
             if (d->leaf_of[ids[i]] != TT_INVALID_ID) rt_dyn_write_lane(d, t, scene, ids[i]);
-        if (deform) rt_dyn_write_all_boxes(d, t);
+        if (deform) rt_dyn_write_all_boxes(d, t, threads);
         else
             for (uint32_t j = 0; j < d->dirty_count; j++) rt_dyn_write_box(d, t, d->dirty_list[j]);
     } else if (st == TT_OK) {
