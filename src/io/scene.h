@@ -26,6 +26,8 @@ struct tt_scene {
      * stamp is above v. */
     uint64_t version;
     uint64_t *stamp;       /* per triangle, NULL until the first edit          */
+    uint64_t *born;        /* per triangle: version of its last addition (an id
+                              reused by an addition is a new triangle)         */
     uint8_t *flags;        /* per triangle: TT_TRI_DEAD, TT_TRI_OWN            */
     size_t triangle_cap, vertex_cap, live_count;
     uint32_t *free_ids;    /* removed ids, reused last removed first           */

@@ -16,11 +16,13 @@ static tt_status edit_arrays(tt_scene *s, const char *call)
     if (s->stamp) return TT_OK;
     const size_t T = s->triangle_count;
     s->stamp = tt_calloc(s->ctx, T ? T : 1, sizeof *s->stamp);
+    s->born = tt_calloc(s->ctx, T ? T : 1, sizeof *s->born);
     s->flags = tt_calloc(s->ctx, T ? T : 1, 1);
-    if (!s->stamp || !s->flags) {
+    if (!s->stamp || !s->flags || !s->born) {
         tt_free(s->ctx, s->stamp);
+        tt_free(s->ctx, s->born);
         tt_free(s->ctx, s->flags);
-        s->stamp = NULL;
+        s->stamp = s->born = NULL;
         s->flags = NULL;
         return tt_error(s->ctx, TT_ERR_OUT_OF_MEMORY, "%s: out of memory", call);
     }
@@ -48,7 +50,9 @@ static tt_status reserve(tt_scene *s, size_t nt, size_t nv, const char *call)
         if (idx) s->indices = idx;
         uint64_t *st = idx ? tt_realloc_array(ctx, s->stamp, cap, sizeof(uint64_t)) : NULL;
         if (st) s->stamp = st;
-        uint8_t *fl = st ? tt_realloc_array(ctx, s->flags, cap, 1) : NULL;
+        uint64_t *bo = st ? tt_realloc_array(ctx, s->born, cap, sizeof(uint64_t)) : NULL;
+        if (bo) s->born = bo;
+        uint8_t *fl = bo ? tt_realloc_array(ctx, s->flags, cap, 1) : NULL;
         if (fl) s->flags = fl;
         if (!fl) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "%s: out of memory", call);
         s->triangle_cap = cap;
@@ -202,7 +206,7 @@ tt_status tt_scene_add_triangles(tt_scene *s, const float *tri, size_t n, uint32
             memcpy(s->vertices + 3 * (size_t)s->indices[3 * t + (size_t)k], tri + 9 * i + 3 * k,
                    3 * sizeof(float));
         refresh(s, t);
-        s->stamp[t] = v;
+        s->stamp[t] = s->born[t] = v;
         s->live_count++;
         if (ids) ids[i] = (uint32_t)t;
     }

@@ -1,9 +1,11 @@
 /* One tt_accel_update of the R-tree (rtree_dyn.h): the ids the scene
  * stamped after `since`, classified against what the tree holds:
- *  - live and in the tree (moved): refit where it is, unless it jumped
- *    (its box's centre moved more than twice the sizes of its old and new
- *    boxes) in an update that moves few triangles; a jumped one is deleted
- *    and inserted again. When a quarter or more of the live triangles moved
+ *  - live and in the tree (moved): refit where it is, unless, in an update
+ *    that moves few triangles, it jumped (its box's centre moved more than
+ *    twice the sizes of its old and new boxes) or would grow its leaf's
+ *    surface by more than a quarter, or its id was reused by an addition (a
+ *    new triangle): then it is deleted and inserted again. When a quarter
+ *    or more of the live triangles moved
  *    (a deformation) all are refit: neighbours move together there, and
  *    the refit keeps the tree's shape;
  *  - removed and in the tree: deleted (Guttman's condense step);
@@ -94,7 +96,16 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
         if (tt_scene_is_dead(scene, id) || d->leaf_of[id] == TT_INVALID_ID) continue;
         float nb[6];
         tri_bounds(scene->tri + 9 * (size_t)id, nb);
-        if (!deform && jumped(d->tri_box + 6 * (size_t)id, nb)) {
+        /* an id reused by an addition is a new triangle; a moved one that
+         * would grow its leaf's surface by more than a quarter (or jumped
+         * away) is better placed again than refit where it was */
+        float lb[6], grown[6];
+        rt_node_bounds(&d->b, d->leaf_of[id], lb);
+        memcpy(grown, lb, sizeof grown);
+        rt_box_grow(grown, nb);
+        const int reborn = scene->born[id] > since;
+        if (reborn || rt_box_area(grown) > 1.25f * rt_box_area(lb) ||
+            jumped(d->tri_box + 6 * (size_t)id, nb)) {
             again[i] = 1;
             far++;
             continue;
