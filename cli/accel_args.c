@@ -6,7 +6,7 @@
 
 /* Names in enum order, for parsing and for output alike. */
 static const char *const strategies[] = {"min-volume", "min-surface", "min-overlap", "rstar",
-                                         "rstar-surface"};
+                                         "rstar-surface", "rrstar"};
 static const char *const splits[] = {"rstar", "quadratic"};
 static const char *const rtree_builds[] = {"insert", "str", "hilbert", "sah"};
 static const char *const rtree_traversals[] = {"auto", "stackless", "ordered", "stack"};
@@ -274,7 +274,8 @@ void cli_accel_args_help(FILE *out)
             "                           triangles in 8-wide blocks; its traversals: stack\n"
             "                           (= auto = ordered: near-to-far) or stackless (the\n"
             "                           GPU's) (default compact)\n"
-            "  --strategy NAME          min-volume|min-surface|min-overlap|rstar|rstar-surface\n"
+            "  --strategy NAME          min-volume|min-surface|min-overlap|rstar|rstar-surface|\n"
+            "                           rrstar (the RR*-tree's choice, Beckmann & Seeger 2009)\n"
             "                           (default rstar-surface)\n"
             "  --m N, --M N             minimum and maximum entries a node, 2 <= m <= M/2,\n"
             "                           M <= 16 (default m 2; M 16 in the compact layout,\n"

@@ -103,6 +103,8 @@ int cmd_info(int argc, char **argv)
     cli_accel_args_emit(&e, &r.accel.build);
     emit_num(&e, "build_s", tt_accel_build_seconds(accel));
     emit_u64(&e, "accel_bytes", tt_accel_memory_bytes(accel));
+    /* how tt_accel_update answers a scene edit (dynamic scenes) */
+    emit_str(&e, "update", tt_accel_updates_in_place(accel) ? "in place" : "rebuild");
     emit_group_begin(&e, "statistics");
     tt_accel_statistics(accel, emit_stat, &e);
     emit_group_end(&e);

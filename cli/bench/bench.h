@@ -41,7 +41,10 @@ enum {
     BENCH_H1 = 1 << 5, /* Havran & Bittner Table 1: kd traversals           */
     BENCH_H3 = 1 << 6, /* Havran & Bittner Figure 3: d_min sweep            */
     BENCH_E1 = 1 << 7, /* the engine table: batch calls vs Embree's loops   */
-    BENCH_ALL_TABLES = (1 << 8) - 1
+    BENCH_ALL_TABLES = (1 << 8) - 1,
+    /* not among the default tables (frames, not single renders): only with
+     * --only D (bench_dynamic.c) */
+    BENCH_D = 1 << 8 /* dynamic scenes: updates against Embree's commits   */
 };
 
 typedef struct bench_table_name {
@@ -84,6 +87,7 @@ typedef struct bench_options {
     int builds;
     int rounds;
     int ao_samples;
+    int frames;       /* table D: frames a sequence (default 100; --frames)  */
 } bench_options;
 
 /* Parses argv (argv[0] = "bench"). Returns 0 ok, 1 --help was printed (exit
@@ -126,6 +130,12 @@ void bench_scenes_free(bench_scene_list *l);
 #define BENCH_QUICK_MAX_TRIANGLES 100000
 /* The tiny unit-test scenes the full matrix leaves out unless named. */
 int bench_scene_is_tiny(const char *name);
+
+/* Table D (bench_dynamic.c): deformation, edits and growth frame by frame,
+ * treetrace's in-place update against Embree's commits in the same run;
+ * writes OUT/dynamic.csv and OUT/dynamic.md. Returns 0, or 1 on failure. */
+int bench_dynamic_run(tt_context *ctx, const bench_options *o, const bench_scene_list *scenes,
+                      const char *out, FILE *err);
 
 /* ------------------------------------------------------------------ matrix */
 

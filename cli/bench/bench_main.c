@@ -64,6 +64,11 @@ static int run_bench(const bench_options *o, FILE *err)
         rc = sr == -2 ? 2 : 1;
         goto done_ctx;
     }
+    if (o->tables & BENCH_D) { /* table D runs frame sequences of its own */
+        rc = bench_dynamic_run(ctx, o, &scenes, out, err);
+        if (rc != 0 || !(o->tables & ~(unsigned)BENCH_D)) goto done_scenes;
+        rc = 1;
+    }
     if (bench_matrix_make(o, &scenes, &m) != 0) {
         fprintf(err, "treetrace bench: out of memory\n");
         goto done_scenes;

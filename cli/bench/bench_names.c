@@ -18,6 +18,7 @@ const char *bench_strategy_name(tt_rtree_strategy s)
     case TT_RTREE_MIN_OVERLAP: return "minOverlap";
     case TT_RTREE_RSTAR: return "R*-tree";
     case TT_RTREE_RSTAR_SURFACE: return "R*-treeSrfc";
+    case TT_RTREE_RRSTAR: return "RR*-tree";
     }
     return "?";
 }

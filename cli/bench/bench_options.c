@@ -17,6 +17,7 @@ const bench_table_name bench_tables[] = {
     {BENCH_H1, "H1", "Havran & Bittner Table 1: kd-tree traversal algorithms (primary rays)"},
     {BENCH_H3, "H3", "Havran & Bittner Figure 3: interior nodes and time against d_min"},
     {BENCH_E1, "E", "Engine table: our batch calls against Embree's own loops"},
+    {BENCH_D, "D", "Dynamic scenes: in-place updates against Embree's refit and rebuilds"},
 };
 const size_t bench_table_count = sizeof bench_tables / sizeof bench_tables[0];
 
@@ -63,7 +64,11 @@ void bench_print_help(FILE *f)
           "                    table: primary, shadow and AO rays through our batch\n"
           "                    calls against Embree's own rtcIntersect1/rtcOccluded1\n"
           "                    loops, default flags and robust, and its 8/16-wide\n"
-          "                    packets; writes engine.csv)\n"
+          "                    packets; writes engine.csv), D (dynamic\n"
+          "                    scenes, only when named: deformation, 1% edits and\n"
+          "                    growth frame by frame, 512x512, tt_accel_update against\n"
+          "                    Embree's REFIT / LOW / MEDIUM commits; dynamic.csv/.md)\n"
+          "  --frames N        frames of each table-D sequence (default 100)\n"
           "  --scene LIST      only these scenes (by scenes.tsv name; the tiny test\n"
           "                    scenes bunny_res4 and cornell run only when named)\n"
           "  --size WxH        image size for every table\n"
@@ -97,6 +102,7 @@ static void set_defaults(bench_options *o, int quick)
     o->builds = quick ? 1 : 3;
     o->rounds = quick ? 1 : 5;
     o->ao_samples = YARD_AO_DEFAULT_SAMPLES;
+    o->frames = 100;
     if (quick) {
         const int q[] = {1, 4, 12};
         memcpy(o->dmins, q, sizeof q);
@@ -152,7 +158,7 @@ static int parse_tables(const char *s, unsigned *out, FILE *err)
         if (i == bench_table_count) {
             fprintf(err,
                     "treetrace bench: --only: unknown table '%s' (tables: F1 F2 F3 F4 F5 "
-                    "H1 H3 E)\n",
+                    "H1 H3 E D)\n",
                     tok);
             return -1;
         }
@@ -237,7 +243,8 @@ void bench_options_free(bench_options *o)
 static const char *const with_value[] = {"--scenes",     "--out",     "--threads", "--repeat",
                                          "--budget",     "--only",    "--scene",   "--size",
                                          "--rtree-size", "--kd-size", "--dmin",
-                                         "--device",     "--builds",  "--ao"};
+                                         "--device",     "--builds",  "--ao",
+                                         "--frames"};
 
 int bench_parse_options(int argc, char **argv, bench_options *out, FILE *err)
 {
@@ -345,6 +352,12 @@ int bench_parse_options(int argc, char **argv, bench_options *out, FILE *err)
             }
             explicit_views = 1;
             out->all_views = strcmp(name, "--all-views") == 0;
+        } else if (strcmp(name, "--frames") == 0) {
+            if (parse_int(value, 1, 100000, &out->frames)) {
+                fprintf(err, "treetrace bench: --frames: expected a count 1..100000, got '%s'\n",
+                        value);
+                goto fail;
+            }
         } else if (strcmp(name, "--no-heatmaps") == 0) {
             out->heatmaps = 0;
         } else if (strcmp(name, "--device") == 0) {

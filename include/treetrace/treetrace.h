@@ -50,7 +50,11 @@ typedef enum tt_status {
     TT_ERR_UNSUPPORTED,      /* not available in this build (Embree, CUDA)   */
     TT_ERR_NO_DEVICE,        /* no usable GPU at run time                    */
     TT_ERR_INVARIANT,        /* tt_accel_check found a broken invariant      */
-    TT_ERR_INTERNAL
+    TT_ERR_INTERNAL,
+    TT_ERR_BUSY,             /* a scene edit or structure update overlapped   */
+                             /* traces on another thread (see scene edits)    */
+    TT_ERR_STALE             /* the structure predates the scene's last edit: */
+                             /* tt_accel_update it first                      */
 } tt_status;
 
 /* A short constant description of a status ("out of memory"). */
@@ -176,7 +180,13 @@ typedef enum tt_rtree_strategy {
     TT_RTREE_MIN_SURFACE,
     TT_RTREE_MIN_OVERLAP,
     TT_RTREE_RSTAR,
-    TT_RTREE_RSTAR_SURFACE
+    TT_RTREE_RSTAR_SURFACE,
+    /* The RR*-tree's choice of subtree (Beckmann & Seeger 2009): an entry
+     * that already covers the box (the smallest), else among the entries
+     * by perimeter enlargement those whose growth would overlap the first,
+     * the one adding the least overlap (volume, or perimeter where a box
+     * is flat). Splits and forced reinsert as configured. */
+    TT_RTREE_RRSTAR
 } tt_rtree_strategy;
 
 typedef enum tt_rtree_split { TT_RTREE_SPLIT_RSTAR = 0, TT_RTREE_SPLIT_QUADRATIC } tt_rtree_split;
@@ -469,6 +479,70 @@ tt_status tt_view_find(tt_context *ctx, const char *views_path, const char *name
                        tt_camera *out);
 tt_status tt_view_find_memory(tt_context *ctx, const char *views_name, const char *data,
                               size_t size, const char *name, tt_camera *out);
+
+/* ------------------------------------------------ scene edits and updates */
+
+/* A scene changes in place through the calls below; then tt_accel_update
+ * brings each structure built on it up to date (an R-tree in the compact
+ * layout in place, every other structure by rebuilding it: see
+ * tt_accel_updates_in_place). examples/dynamic.c is a whole program.
+ *
+ * Ids: a triangle's id never changes while it lives; removal does not
+ * renumber. A removed id is free and the next addition reuses it (the most
+ * recently removed id first); only when no id is free does an addition get
+ * a new id, tt_scene_triangle_count() before it. So ids stay below
+ * tt_scene_triangle_count(), which counts id slots (live or removed);
+ * tt_scene_live_triangle_count() the live ones. A removed slot is a point
+ * (no structure hits it) and tt_scene_triangle gives that point.
+ *
+ * Every edit validates its whole input first: an unknown or removed id, an
+ * id given twice, a vertex id out of range or a non-finite coordinate fails
+ * with TT_ERR_INVALID_ARGUMENT naming the array index, and nothing changes.
+ *
+ * Consistency: a structure answers for the scene as it was at its build or
+ * its last tt_accel_update, never a mix. Between an edit and the update,
+ * tracing through it (tt_intersect1/_ex, tt_occluded1/_ex, the batch calls,
+ * tt_render) fails with TT_ERR_STALE and traces nothing.
+ *
+ * Threading contract: traces may run on any number of threads at once;
+ * an edit, or an update of any structure of the scene, runs alone: with no
+ * trace of that scene in flight and no other edit or update. This is
+ * enforced, not assumed: a call that would overlap gets TT_ERR_BUSY (and
+ * does nothing), so a race in the caller's code shows up as an error. */
+
+/* Adds n triangles (9 floats each: three vertices of its own); ids[i]
+ * (when ids is not NULL) gets triangle i's id. */
+tt_status tt_scene_add_triangles(tt_scene *scene, const float *triangles, size_t n, uint32_t *ids);
+/* Removes the live triangles ids[0..n). */
+tt_status tt_scene_remove_triangles(tt_scene *scene, const uint32_t *ids, size_t n);
+/* Moves whole triangles: ids[i] gets the 9 floats triangles[9 i ..]. A
+ * triangle sharing vertices with others gets its own copies first, so the
+ * others stay where they are. */
+tt_status tt_scene_set_triangles(tt_scene *scene, const uint32_t *ids, const float *triangles,
+                                 size_t n);
+/* Moves vertices: vertex ids[i] to positions[3 i ..]; ids NULL: vertices
+ * 0..n-1 (e.g. all of them for a deformation). Every live triangle using a
+ * moved vertex moves with it. Vertex ids are tt_scene_create's / the file's
+ * order; triangles added or detached later have vertices past those. */
+tt_status tt_scene_move_vertices(tt_scene *scene, const uint32_t *ids, const float *positions,
+                                 size_t n);
+/* Vertex i's position (3 floats): e.g. the rest pose a deformation starts
+ * from; TT_ERR_INVALID_ARGUMENT for i >= tt_scene_vertex_count(). */
+tt_status tt_scene_vertex(const tt_scene *scene, size_t i, float out[3]);
+/* 1 when id is a live triangle of the scene. */
+int tt_scene_triangle_alive(const tt_scene *scene, uint32_t id);
+size_t tt_scene_live_triangle_count(const tt_scene *scene);
+/* Successful edit calls so far (0 for a scene never edited). */
+uint64_t tt_scene_version(const tt_scene *scene);
+
+/* Brings a structure up to date with its scene's edits (nothing to do: TT_OK
+ * at once). On an error the structure is left as it was (still answering
+ * for the old scene: traces get TT_ERR_STALE until an update succeeds). */
+tt_status tt_accel_update(tt_accel *accel);
+/* 1 when tt_accel_update changes this structure in place (the R-tree in the
+ * compact layout), 0 when it answers by rebuilding (the complete layout,
+ * kdtree, bruteforce, embree). */
+int tt_accel_updates_in_place(const tt_accel *accel);
 
 /* --------------------------------------------------------------- rendering */
 

@@ -18,6 +18,8 @@ from .core import (INVALID_ID, Accel, Context, Hits, Scene, accel_names, default
 from .errors import (Error, FileError, InternalError, InvalidArgumentError, InvariantError,
                      NoDeviceError, OutOfMemoryError, ParseError, UnsupportedError)
 from .render import Camera, RenderResult, render, write_png
+# dynamic scenes: Scene edits, Accel.update (a module of its own)
+from .dynamic import BusyError, StaleError
 
 library_path = _clib.path
 __version__ = version()
@@ -26,7 +28,7 @@ __all__ = ["INVALID_ID", "Accel", "Camera", "Context", "Error", "FileError", "Hi
            "InternalError", "InvalidArgumentError", "InvariantError", "NoDeviceError",
            "OutOfMemoryError", "ParseError", "RenderResult", "Scene", "UnsupportedError",
            "accel_names", "default_context", "isa_best", "isa_supported", "library_path",
-           "render", "version", "write_png"]
+           "render", "version", "write_png", "BusyError", "StaleError"]
 
 # Open3D's RaycastingScene interface (cast_rays / test_occlusions on (..., 6)
 # rays: treetrace.raycast, treetrace.o3d).

@@ -2,6 +2,7 @@
 #include "accel/accel.h"
 #include "accel/ray_check.h"
 #include "core/isa.h"
+#include "io/scene_guard.h"
 
 #include <string.h>
 
@@ -101,6 +102,7 @@ tt_status tt_accel_build(tt_context *ctx, const tt_scene *scene, const tt_build_
     a->options = *options;
     a->isa = isa;
     a->options.accel = vt->name; /* the caller's string need not outlive us */
+    a->version = scene->version;
     double t0 = tt_now();
     tt_status st = vt->build(a);
     a->build_s = tt_now() - t0;
@@ -160,8 +162,11 @@ tt_status tt_intersect1_ex(const tt_accel *accel, const tt_ray *ray, tt_hit *hit
     tt_wray w;
     tt_status st = prepare(accel, ray, &w);
     if (st != TT_OK) return st;
+    st = tt_accel_trace_enter(accel, "tt_intersect1");
+    if (st != TT_OK) return st;
     if (args && args->stats) accel->vt->intersect_stats(accel, &w, hit, args, args->stats);
     else accel->vt->intersect(accel, &w, hit, args);
+    tt_accel_trace_leave(accel);
     return TT_OK;
 }
 
@@ -172,8 +177,11 @@ tt_status tt_occluded1_ex(const tt_accel *accel, const tt_ray *ray, int *occlude
     tt_wray w;
     tt_status st = prepare(accel, ray, &w);
     if (st != TT_OK) return st;
+    st = tt_accel_trace_enter(accel, "tt_occluded1");
+    if (st != TT_OK) return st;
     if (args && args->stats) *occluded = accel->vt->occluded_stats(accel, &w, args, args->stats);
     else *occluded = accel->vt->occluded(accel, &w, args);
+    tt_accel_trace_leave(accel);
     return TT_OK;
 }
 
@@ -185,4 +193,72 @@ tt_status tt_intersect1(const tt_accel *accel, const tt_ray *ray, tt_hit *hit)
 tt_status tt_occluded1(const tt_accel *accel, const tt_ray *ray, int *occluded)
 {
     return tt_occluded1_ex(accel, ray, occluded, NULL);
+}
+
+/* ---------------------------------------------------- dynamic scenes */
+
+tt_status tt_accel_trace_enter(const tt_accel *accel, const char *call)
+{
+    /* the guard first: the versions are written under a writer's hold */
+    if (!tt_scene_trace_enter(accel->scene))
+        return tt_error(accel->ctx, TT_ERR_BUSY,
+                        "%s: the scene is being edited or updated on another thread; traces "
+                        "must not overlap edits (treetrace.h: the threading contract)", call);
+    if (accel->version != accel->scene->version) {
+        const unsigned long long sv = accel->scene->version, av = accel->version;
+        tt_scene_trace_leave(accel->scene);
+        return tt_error(accel->ctx, TT_ERR_STALE,
+                        "%s: the scene was edited after this %s structure was built or updated "
+                        "(scene version %llu, structure %llu): call tt_accel_update first", call,
+                        accel->vt->name, sv, av);
+    }
+    return TT_OK;
+}
+
+void tt_accel_trace_leave(const tt_accel *accel) { tt_scene_trace_leave(accel->scene); }
+
+/* The answer of every structure without an in-place update: a new build of
+ * the edited scene, swapped in only when it succeeded. */
+static tt_status rebuild(tt_accel *a)
+{
+    tt_accel fresh = *a;
+    fresh.impl = NULL;
+    double t0 = tt_now();
+    tt_status st = a->vt->build(&fresh);
+    if (st != TT_OK) {
+        if (fresh.impl) a->vt->destroy(&fresh);
+        return st;
+    }
+    a->vt->destroy(a);
+    a->impl = fresh.impl;
+    a->options = fresh.options;
+    a->build_s = tt_now() - t0;
+    return TT_OK;
+}
+
+tt_status tt_accel_update(tt_accel *accel)
+{
+    if (!accel) return TT_ERR_INVALID_ARGUMENT;
+    const tt_scene *s = accel->scene;
+    if (!tt_scene_write_enter(s))
+        return tt_error(accel->ctx, TT_ERR_BUSY,
+                        "tt_accel_update: the scene is being traced, edited or updated on another "
+                        "thread; updates must run alone (treetrace.h: the threading contract)");
+    tt_status st = TT_OK;
+    if (accel->version != s->version) {
+        double t0 = tt_now();
+        st = accel->vt->update ? accel->vt->update(accel, accel->version) : TT_ERR_UNSUPPORTED;
+        if (st == TT_ERR_UNSUPPORTED) st = rebuild(accel);
+        if (st == TT_OK) {
+            accel->version = s->version;
+            accel->update_s = tt_now() - t0;
+        }
+    }
+    tt_scene_write_leave(s);
+    return st;
+}
+
+int tt_accel_updates_in_place(const tt_accel *accel)
+{
+    return accel && accel->vt->updates_in_place && accel->vt->updates_in_place(accel);
 }

@@ -78,6 +78,16 @@ typedef struct tt_accel_vtable {
     /* Emits structure statistics as key/value pairs. */
     void (*statistics)(const tt_accel *accel, tt_stat_fn fn, void *user);
     size_t (*memory)(const tt_accel *accel);
+
+    /* Dynamic scenes (optional; NULL: tt_accel_update rebuilds). Brings
+     * accel->impl up to date with the scene's edits since version `since`
+     * (the ids whose stamp is above it, io/scene.h), in place. Returns
+     * TT_ERR_UNSUPPORTED, having changed nothing and reported nothing, to
+     * be rebuilt instead (e.g. an option set it cannot update); on another
+     * error the structure must still answer for the old scene. */
+    tt_status (*update)(tt_accel *accel, uint64_t since);
+    /* 1 when `update` works in place for this structure's options. */
+    int (*updates_in_place)(const tt_accel *accel);
 } tt_accel_vtable;
 
 struct tt_accel {
@@ -88,7 +98,18 @@ struct tt_accel {
     tt_isa isa; /* options.isa resolved (core/isa.h) before build runs */
     double build_s;
     void *impl;
+    /* the scene version it answers for (tt_accel_update), and the time of
+     * its last update */
+    uint64_t version;
+    double update_s;
 };
+
+/* Every trace entry point (single rays, batches, tt_render) brackets its
+ * work with these: enter refuses a structure older than its scene
+ * (TT_ERR_STALE) or a scene held by an edit or update (TT_ERR_BUSY), with
+ * the message naming `call`; on TT_OK the caller must leave after. */
+tt_status tt_accel_trace_enter(const tt_accel *accel, const char *call);
+void tt_accel_trace_leave(const tt_accel *accel);
 
 /* The structures compiled into this build. */
 extern const tt_accel_vtable tt_bruteforce_vtable;

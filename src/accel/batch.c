@@ -191,6 +191,8 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
     const tt_accel_vtable *vt = accel->vt;
     const int threads = threads_of(accel);
     const int use_packets = packets_allowed(vt, o, hits != NULL);
+    tt_status entered = tt_accel_trace_enter(accel, call);
+    if (entered != TT_OK) return entered;
     plan p;
     plan_make(&p, n, o, threads, use_packets);
     size_t bad = SIZE_MAX, bad_count = 0;
@@ -300,6 +302,7 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
             tt_ray_stats_add(o->stats, &local);
         }
     }
+    tt_accel_trace_leave(accel);
     return report_bad(accel, rays, n, bad, bad_count, call);
 }
 

@@ -1,5 +1,6 @@
 #include "core/context.h"
 
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -38,6 +39,8 @@ const char *tt_strerror(tt_status status)
     case TT_ERR_NO_DEVICE: return "no usable device";
     case TT_ERR_INVARIANT: return "broken invariant";
     case TT_ERR_INTERNAL: return "internal error";
+    case TT_ERR_BUSY: return "busy: an edit or update overlapped traces";
+    case TT_ERR_STALE: return "structure out of date with its scene";
     }
     return "unknown status";
 }
@@ -85,11 +88,22 @@ const char *tt_context_last_error(const tt_context *ctx) { return ctx ? ctx->las
 
 int tt_context_threads(const tt_context *ctx) { return ctx ? ctx->threads : 0; }
 
+/* Errors may be reported from several threads at once (a trace refused on
+ * each of them: TT_ERR_BUSY / TT_ERR_STALE): the message is formatted
+ * apart, then stored and handed to the hook under one lock, so the last
+ * error is always one whole message and hooks run one at a time. */
+static atomic_flag error_lock = ATOMIC_FLAG_INIT;
+
 tt_status tt_verror(tt_context *ctx, tt_status status, const char *fmt, va_list ap)
 {
     if (!ctx) return status;
-    vsnprintf(ctx->last_error, sizeof ctx->last_error, fmt, ap);
+    char msg[TT_ERROR_MAX];
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    while (atomic_flag_test_and_set_explicit(&error_lock, memory_order_acquire)) {
+    }
+    memcpy(ctx->last_error, msg, sizeof msg);
     if (ctx->on_error) ctx->on_error(ctx->on_error_user, status, ctx->last_error);
+    atomic_flag_clear_explicit(&error_lock, memory_order_release);
     return status;
 }
 

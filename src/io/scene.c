@@ -95,6 +95,12 @@ void tt_scene_destroy(tt_scene *scene)
     tt_free(ctx, scene->vertices);
     tt_free(ctx, scene->indices);
     tt_free(ctx, scene->tri);
+    tt_free(ctx, scene->stamp); /* the edit arrays (io/scene_edit.c) */
+    tt_free(ctx, scene->born);
+    tt_free(ctx, scene->flags);
+    tt_free(ctx, scene->free_ids);
+    tt_free(ctx, scene->adj_start);
+    tt_free(ctx, scene->adj_tri);
     tt_free(ctx, scene);
 }
 

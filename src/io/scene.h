@@ -17,7 +17,36 @@ struct tt_scene {
     size_t triangle_count;
     float *tri;        /* 9 floats a triangle: v0, v1, v2                       */
     tt_aabb bounds;    /* of the vertices used by triangles                     */
+
+    /* Edits (io/scene_edit.c; all zero for a scene never edited). A removed
+     * triangle keeps its id and its slot, collapsed to a point (its first
+     * vertex: zero area, hit by no structure), until an addition reuses the
+     * id. `stamp[id]` is the `version` (edit calls so far) of the id's last
+     * change, so a structure built at version v updates by the ids whose
+     * stamp is above v. */
+    uint64_t version;
+    uint64_t *stamp;       /* per triangle, NULL until the first edit          */
+    uint64_t *born;        /* per triangle: version of its last addition (an id
+                              reused by an addition is a new triangle)         */
+    uint8_t *flags;        /* per triangle: TT_TRI_DEAD, TT_TRI_OWN            */
+    size_t triangle_cap, vertex_cap, live_count;
+    uint32_t *free_ids;    /* removed ids, reused last removed first           */
+    size_t free_count, free_cap;
+    uint32_t *adj_start, *adj_tri; /* vertex -> triangles (CSR), built lazily */
+    int adj_valid;
+    /* Traces in flight through any structure of the scene (> 0), or an
+     * edit / update holding it (< 0): io/scene_guard.h. */
+    _Atomic long guard;
 };
+
+#define TT_TRI_DEAD 0x1u /* removed: the id is free                            */
+#define TT_TRI_OWN 0x2u  /* its three vertices are its own (none shared)       */
+
+/* 1 when id is a removed triangle's (its slot a point, never hit). */
+static inline int tt_scene_is_dead(const tt_scene *s, size_t id)
+{
+    return s->flags && (s->flags[id] & TT_TRI_DEAD);
+}
 
 /* Takes ownership of vertices and indices (allocated with ctx), validates
  * them (finite coordinates, indices in range), fills tri and bounds.

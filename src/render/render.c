@@ -270,6 +270,10 @@ static void count_results(const tt_frame *f, int shadows, tt_render_summary *s)
     s->mrays_per_s = mrays(s->primary_rays + s->shadow_rays, s->trace_s);
 }
 
+static tt_status render_entered(tt_context *ctx, const tt_scene *scene, const tt_accel *accel,
+                                const tt_camera *camera, const tt_render_options *options,
+                                tt_render_result **out);
+
 tt_status tt_render(tt_context *ctx, const tt_scene *scene, const tt_accel *accel,
                     const tt_camera *camera, const tt_render_options *options,
                     tt_render_result **out)
@@ -282,7 +286,20 @@ tt_status tt_render(tt_context *ctx, const tt_scene *scene, const tt_accel *acce
     else tt_render_options_default(&o);
     tt_status st = validate(ctx, scene, accel, camera, &o);
     if (st != TT_OK) return st;
+    st = tt_accel_trace_enter(accel, "tt_render");
+    if (st != TT_OK) return st;
+    st = render_entered(ctx, scene, accel, camera, &o, out);
+    tt_accel_trace_leave(accel);
+    return st;
+}
 
+/* tt_render inside the scene's trace bracket (io/scene_guard.h). */
+static tt_status render_entered(tt_context *ctx, const tt_scene *scene, const tt_accel *accel,
+                                const tt_camera *camera, const tt_render_options *options,
+                                tt_render_result **out)
+{
+    tt_render_options o = *options;
+    tt_status st;
     tt_render_result *r = tt_calloc(ctx, 1, sizeof *r);
     if (!r) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "tt_render: out of memory");
     r->ctx = ctx;

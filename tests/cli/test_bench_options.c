@@ -36,6 +36,8 @@ int main(void)
     expect_bad("--ao x", "--ao", log);
     expect_bad("--quick=1", "--quick takes no value", log);
     expect_bad("--all-views --first-view", "contradict", log);
+    expect_bad("--frames 0", "--frames", log); /* table D's sequences */
+    expect_bad("--frames x", "--frames", log);
     expect_bad("--scenes /nonexistent/folder", "/nonexistent/folder", log);
     snprintf(args, sizeof args, "--scenes '%s' --scene nosuchscene --out '%s/out'", scenes, scenes);
     expect_bad(args, "nosuchscene", log);
@@ -44,7 +46,23 @@ int main(void)
     CHECK(rc == 0);
     char *out = read_text(log);
     CHECK(out && strstr(out, "usage: treetrace bench") && strstr(out, "--quick") &&
-          strstr(out, "--only") && strstr(out, "--builds") && strstr(out, "--ao"));
+          strstr(out, "--only") && strstr(out, "--builds") && strstr(out, "--ao") &&
+          strstr(out, "--frames"));
+    free(out);
+
+    /* table D runs on its own: two frames of each sequence on the tiny bunny,
+     * a CSV row per engine and frame, treetrace's with update and SAH */
+    snprintf(args, sizeof args, "--scenes '%s' --scene bunny_res4 --only D --frames 2 --out '%s/dyn'",
+             scenes, scenes);
+    rc = run_bench(args, log);
+    CHECK_MSG(rc == 0, "table D exited %d", rc);
+    char csv[700];
+    snprintf(csv, sizeof csv, "%s/dyn/dynamic.csv", scenes);
+    out = read_text(csv);
+    CHECK(out && strstr(out, "scene,mode,engine,frame,triangles,update_ms") &&
+          strstr(out, "bunny_res4,deform,treetrace,2,") && strstr(out, "bunny_res4,edits,treetrace,2,") &&
+          strstr(out, "bunny_res4,growth,treetrace,2,") && strstr(out, ",inplace") &&
+          strstr(out, ",repack"));
     free(out);
 
     remove_tree(scenes);

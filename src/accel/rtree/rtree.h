@@ -28,6 +28,9 @@ typedef struct rt_tree {
     tt_rtree_traversal traversal;
 
     uint32_t real_nodes; /* present slots */
+    /* the pointer tree of a changing scene, from the first tt_accel_update
+     * on (rtree/update/rtree_dyn.h; NULL before) */
+    struct rt_dyn *dyn;
     double insert_s, pack_s;
 } rt_tree;
 

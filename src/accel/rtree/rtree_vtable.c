@@ -6,6 +6,7 @@
 #include "accel/rtree/rtree.h"
 #include "accel/rtree/rtree_box.h"
 #include "accel/rtree/build/rtree_bulk.h"
+#include "accel/rtree/update/rtree_dyn.h"
 
 #include <math.h>
 #include <string.h>
@@ -24,7 +25,7 @@ static tt_status validate(tt_context *ctx, const tt_rtree_options *o)
 {
     if ((unsigned)o->build > TT_RTREE_BUILD_SAH)
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "rtree: unknown build %d", (int)o->build);
-    if ((unsigned)o->strategy > TT_RTREE_RSTAR_SURFACE)
+    if ((unsigned)o->strategy > TT_RTREE_RRSTAR)
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "rtree: unknown strategy %d",
                         (int)o->strategy);
     if ((unsigned)o->split > TT_RTREE_SPLIT_QUADRATIC)
@@ -59,6 +60,10 @@ static void rtree_destroy(tt_accel *a)
 {
     rt_tree *t = a->impl;
     if (!t) return;
+    if (t->dyn) {
+        rt_dyn_free(a->ctx, t->dyn);
+        tt_free(a->ctx, t->dyn);
+    }
     rt_tree_free(a->ctx, t);
     tt_free(a->ctx, t);
     a->impl = NULL;
@@ -253,6 +258,15 @@ static void rtree_statistics(const tt_accel *a, tt_stat_fn fn, void *user)
         rtc_statistics(&t->compact, fn, user);
         fn(user, "insert_s", t->insert_s);
         fn(user, "pack_s", t->pack_s);
+        if (t->dyn) { /* what the last tt_accel_update did */
+            fn(user, "update_refit", (double)t->dyn->last_refit);
+            fn(user, "update_removed", (double)t->dyn->last_removed);
+            fn(user, "update_inserted", (double)t->dyn->last_inserted);
+            fn(user, "update_moved_far", (double)t->dyn->last_moved_far);
+            fn(user, "update_tree_s", t->dyn->last_tree_s);
+            fn(user, "update_layout_s", t->dyn->last_layout_s);
+            fn(user, "update_repacks", (double)t->dyn->repacks);
+        }
         return;
     }
     rt_statistics(t, fn, user);
@@ -261,7 +275,43 @@ static void rtree_statistics(const tt_accel *a, tt_stat_fn fn, void *user)
 static size_t rtree_memory(const tt_accel *a)
 {
     const rt_tree *t = a->impl;
-    return t->layout == TT_RTREE_LAYOUT_COMPACT ? rtc_bytes(&t->compact) : rt_tree_bytes(t);
+    return t->layout == TT_RTREE_LAYOUT_COMPACT
+               ? rtc_bytes(&t->compact) + (t->dyn ? rt_dyn_bytes(t->dyn) : 0)
+               : rt_tree_bytes(t);
+}
+
+/* ------------------------------------------------------------- update */
+
+/* In place for the compact layout (rtree/update/); the complete layout's
+ * level-order array has no room to change, so it is rebuilt. */
+static int rtree_updates_in_place(const tt_accel *a)
+{
+    const rt_tree *t = a->impl;
+    return t->layout == TT_RTREE_LAYOUT_COMPACT;
+}
+
+static tt_status rtree_update(tt_accel *a, uint64_t since)
+{
+    rt_tree *t = a->impl;
+    if (t->layout != TT_RTREE_LAYOUT_COMPACT) return TT_ERR_UNSUPPORTED;
+    if (!t->dyn) {
+        rt_dyn *d = tt_calloc(a->ctx, 1, sizeof *d);
+        if (!d) return tt_error(a->ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
+        tt_status st = rt_dyn_from_compact(d, a->ctx, &a->options.rtree, &t->compact, a->scene);
+        if (st != TT_OK) {
+            rt_dyn_free(a->ctx, d);
+            tt_free(a->ctx, d);
+            return st;
+        }
+        t->dyn = d;
+    }
+    tt_status st = rt_dyn_update(t->dyn, a->ctx, &t->compact, a->scene, since);
+    if (st != TT_OK) { /* the pointer tree may be half-changed: start over next time */
+        rt_dyn_free(a->ctx, t->dyn);
+        tt_free(a->ctx, t->dyn);
+        t->dyn = NULL;
+    }
+    return st;
 }
 
 const tt_accel_vtable tt_rtree_vtable = {
@@ -281,4 +331,6 @@ const tt_accel_vtable tt_rtree_vtable = {
     .check = rtree_check,
     .statistics = rtree_statistics,
     .memory = rtree_memory,
+    .update = rtree_update,
+    .updates_in_place = rtree_updates_in_place,
 };

@@ -40,11 +40,16 @@ static tt_status grow_pool(rt_builder *b)
 
 static tt_status new_node(rt_builder *b, int level, uint32_t *out)
 {
-    if (b->node_count == b->node_cap) {
-        tt_status st = grow_pool(b);
-        if (st != TT_OK) return st;
+    uint32_t n;
+    if (b->free_count) { /* a node a deletion gave back (rtree/update/) */
+        n = b->free_node[--b->free_count];
+    } else {
+        if (b->node_count == b->node_cap) {
+            tt_status st = grow_pool(b);
+            if (st != TT_OK) return st;
+        }
+        n = b->node_count++;
     }
-    uint32_t n = b->node_count++;
     b->hdr[n].parent = TT_INVALID_ID;
     b->hdr[n].slot = 0;
     b->hdr[n].count = 0;
@@ -116,6 +121,8 @@ static void add_entry(rt_builder *b, uint32_t n, const float e[6], uint32_t c)
     if (b->hdr[n].level > 0) {
         b->hdr[c].parent = n;
         b->hdr[c].slot = (uint8_t)i;
+    } else if (b->leaf_of) {
+        b->leaf_of[c] = n; /* every triangle lands here, whatever moved it */
     }
 }
 
@@ -169,6 +176,7 @@ static int choose_entry(const rt_builder *b, uint32_t n, const float e[6])
     const float *s = rt_node_box(b, n);
     const int cap = b->cap, cnt = h->count;
     const tt_rtree_strategy st = b->strategy;
+    if (st == TT_RTREE_RRSTAR) return rt_choose_rrstar(b, n, e);
     /* The R* variants minimise overlap only when choosing among leaves. */
     const int overlap = st == TT_RTREE_MIN_OVERLAP ||
                         (h->level == 1 && (st == TT_RTREE_RSTAR || st == TT_RTREE_RSTAR_SURFACE));
@@ -440,4 +448,15 @@ tt_status rt_builder_insert_triangle(rt_builder *b, uint32_t id)
     tt_status st = insert_entry(b, b->tri_box + 6 * (size_t)id, id, 0);
     if (st == TT_OK) b->triangles++;
     return st;
+}
+
+tt_status rt_builder_new_node(rt_builder *b, int level, uint32_t *out)
+{
+    return new_node(b, level, out);
+}
+
+tt_status rt_builder_insert_entry(rt_builder *b, const float e[6], uint32_t c, int level)
+{
+    b->reinserted_levels = 0;
+    return insert_entry(b, e, c, level);
 }

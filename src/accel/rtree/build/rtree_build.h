@@ -50,6 +50,14 @@ typedef struct rt_builder {
     /* levels that already had their forced reinsert during the current
      * top-level insertion (bit l for level l) */
     uint32_t reinserted_levels;
+
+    /* Dynamic updates (rtree/update/; all NULL / 0 for a one-shot build):
+     * leaf_of[id] is the leaf node holding triangle id, kept by every
+     * insertion, split and reinsert; free_node the pool nodes deletion gave
+     * back, which new nodes take first. */
+    uint32_t *leaf_of;
+    uint32_t *free_node;
+    uint32_t free_count;
 } rt_builder;
 
 /* The six bound arrays of node n: b[k * cap + i] is bound k of entry i. */
@@ -71,6 +79,13 @@ void rt_builder_free(rt_builder *b);
 /* Inserts triangle `id` (its box is tri_box[6 * id ..]). */
 tt_status rt_builder_insert_triangle(rt_builder *b, uint32_t id);
 
+/* For the dynamic update (rtree/update/): a fresh node at `level` (from the
+ * free list first), and the insertion of one entry (box e, child c: a
+ * triangle id for level 0, else a node) into a node at `level`, with the
+ * strategy, splits and forced reinsert of a top-level insertion. */
+tt_status rt_builder_new_node(rt_builder *b, int level, uint32_t *out);
+tt_status rt_builder_insert_entry(rt_builder *b, const float e[6], uint32_t c, int level);
+
 /* The box of everything in node n (the union of its entries). */
 void rt_node_bounds(const rt_builder *b, uint32_t n, float out[6]);
 
@@ -78,6 +93,10 @@ void rt_node_bounds(const rt_builder *b, uint32_t n, float out[6]);
  * boxes, every inserted triangle exactly once. TT_ERR_INVARIANT through
  * tt_error naming the node and the broken rule. For white-box tests. */
 tt_status rt_builder_check(const rt_builder *b);
+
+/* The RR*-tree's choice of the entry of node n that receives box e
+ * (rtree_choose_rrstar.c; strategy TT_RTREE_RRSTAR). */
+int rt_choose_rrstar(const rt_builder *b, uint32_t n, const float e[6]);
 
 /* Splitting an overflowing node (rtree_split.c): fills group[i] with 0 or
  * 1 for each of the node's count entries, both groups holding >= m. */

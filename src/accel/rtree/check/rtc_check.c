@@ -164,10 +164,12 @@ tt_status rtc_check(tt_context *ctx, const rtc_tree *t, const tt_scene *scene)
 {
     const tt_rtc *c = &t->c;
     walk w = {ctx, t, scene, NULL, NULL, NULL};
-    if (c->triangles != scene->triangle_count)
+    /* a tree updated in place holds the live triangles; a built one every
+     * id slot (removed ones as points, io/scene.h) */
+    if (c->triangles > scene->triangle_count || c->triangles < tt_scene_live_triangle_count(scene))
         return tt_error(ctx, TT_ERR_INVARIANT,
-                        "rtree compact: %u triangles packed, the scene has %zu", c->triangles,
-                        scene->triangle_count);
+                        "rtree compact: %u triangles packed, the scene has %zu (%zu live)",
+                        c->triangles, scene->triangle_count, tt_scene_live_triangle_count(scene));
     if (c->M < 4 || c->M > TT_RT_MAX_M || c->S != ((c->M + 3u) & ~3u) ||
         c->words != tt_rtc_words(c->M) || c->nodes == 0 || c->height == 0)
         return tt_error(ctx, TT_ERR_INVARIANT,
@@ -185,10 +187,16 @@ tt_status rtc_check(tt_context *ctx, const rtc_tree *t, const tt_scene *scene)
         if (!w.reached[n])
             st = tt_error(ctx, TT_ERR_INVARIANT, "rtree compact: node %u is not in the tree", n);
     if (st == TT_OK) st = check_free_lanes(&w);
-    for (uint32_t id = 0; st == TT_OK && id < c->triangles; id++)
-        if (!w.seen[id])
-            st = tt_error(ctx, TT_ERR_INVARIANT, "rtree compact: triangle %u is not in the tree",
+    size_t stored = 0;
+    for (size_t id = 0; st == TT_OK && id < scene->triangle_count; id++) {
+        stored += w.seen[id];
+        if (!w.seen[id] && !tt_scene_is_dead(scene, id))
+            st = tt_error(ctx, TT_ERR_INVARIANT, "rtree compact: triangle %zu is not in the tree",
                           id);
+    }
+    if (st == TT_OK && stored != c->triangles)
+        st = tt_error(ctx, TT_ERR_INVARIANT, "rtree compact: %zu triangles stored, the header "
+                      "says %u", stored, c->triangles);
     tt_free(ctx, w.reached);
     tt_free(ctx, w.seen);
     tt_free(ctx, w.lane_owned);

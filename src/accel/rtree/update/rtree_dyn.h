@@ -1,0 +1,86 @@
+/* The R-tree of a changing scene (tt_accel_update): the pointer tree of
+ * rtree_build.h kept beside the compact layout, so that triangles can be
+ * deleted (Guttman's condense step, orphans reinserted), inserted (the R*
+ * choices, splits and forced reinsert of the insertion builder) and refit
+ * (moved triangles' boxes up the tree) where they are, and the compact
+ * layout follows.
+ *
+ * The pointer tree is not kept by a one-shot build (it would double the
+ * memory of every static scene): the first update rebuilds it from the
+ * compact layout, node for node, so the tree keeps the quality of its
+ * builder (SAH by default). From then on the structure holds both. */
+#ifndef TT_ACCEL_RTREE_DYN_H
+#define TT_ACCEL_RTREE_DYN_H
+
+#include "accel/rtree/build/rtree_build.h"
+#include "accel/rtree/rtc.h"
+#include "io/scene.h"
+
+typedef struct rt_dyn {
+    rt_builder b;
+    float *tri_box;      /* 6 floats an id: the box the tree holds it with  */
+    uint32_t *leaf_of;   /* b.leaf_of: the leaf of an id, TT_INVALID_ID: absent */
+    size_t id_cap;       /* ids the three per-id arrays hold                 */
+    uint32_t *free_node; /* b.free_node's storage                            */
+    uint32_t free_cap;
+    /* the compact layout's places of the pointer tree's parts (rebuilt by
+     * every repack): rec_of[node] the record of an interior node, lane_of[id]
+     * the global triangle lane of an id */
+    uint32_t *rec_of;
+    uint32_t rec_cap;
+    uint32_t *lane_of;
+    /* per-node dirty marks of one update and the nodes marked */
+    uint8_t *dirty;
+    uint32_t *dirty_list, dirty_count, dirty_cap;
+    /* entries orphaned by deletions: box, child, level */
+    float *orphan_box;
+    uint32_t *orphan_child;
+    uint8_t *orphan_level;
+    size_t orphan_count, orphan_cap;
+    /* what the last update did, for the statistics and the bench */
+    uint64_t last_refit, last_removed, last_inserted, last_moved_far, updates, repacks;
+    double last_tree_s, last_layout_s;
+    int must_repack; /* the layout's boxes predate the tree's (first update) */
+} rt_dyn;
+
+/* The pointer tree and the maps from the compact layout t (built on the
+ * scene's geometry as of its last build or update). */
+tt_status rt_dyn_from_compact(rt_dyn *d, tt_context *ctx, const tt_rtree_options *o,
+                              const rtc_tree *t, const tt_scene *scene);
+void rt_dyn_free(tt_context *ctx, rt_dyn *d);
+size_t rt_dyn_bytes(const rt_dyn *d);
+
+/* Pointer-tree operations (rtree_dyn_tree.c). */
+tt_status rt_dyn_reserve_ids(rt_dyn *d, size_t ids);
+/* The per-node arrays sized to the node pool. */
+tt_status rt_dyn_node_arrays(rt_dyn *d);
+/* Removes triangle id (present in the tree): condense, orphans reinserted. */
+tt_status rt_dyn_delete(rt_dyn *d, uint32_t id);
+/* Inserts triangle id with box tri_box[id]. */
+tt_status rt_dyn_insert(rt_dyn *d, uint32_t id);
+/* Sets id's entry box in its leaf to tri_box[id], marking the leaf dirty. */
+tt_status rt_dyn_set_box(rt_dyn *d, uint32_t id);
+/* Recomputes the boxes of the dirty nodes and their ancestors, bottom up;
+ * clears the marks. `changed` (may be NULL) collects the nodes whose box in
+ * their parent was rewritten, for the compact layout. */
+tt_status rt_dyn_refit(rt_dyn *d);
+/* Every box recomputed from the ids' boxes (tri_box) up: the refit of a
+ * deformation, one sequential pass instead of a climb per triangle. */
+void rt_dyn_refit_all(rt_dyn *d);
+/* The same, the root's subtrees on `threads` threads. */
+void rt_dyn_refit_all_par(rt_dyn *d, int threads);
+
+/* The compact layout from the pointer tree (rtree_dyn_compact.c): a full
+ * repack with the maps, or, when the tree's shape did not change, the
+ * moved triangles' lanes and the dirty nodes' boxes written in place. */
+tt_status rt_dyn_repack(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *scene);
+void rt_dyn_write_lane(rt_dyn *d, rtc_tree *t, const tt_scene *scene, uint32_t id);
+void rt_dyn_write_box(rt_dyn *d, rtc_tree *t, uint32_t node);
+/* Every node's box written into the layout (after rt_dyn_refit_all). */
+void rt_dyn_write_all_boxes(rt_dyn *d, rtc_tree *t, int threads);
+
+/* The whole update: the ids stamped after `since` (tt_accel_update). */
+tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *scene,
+                        uint64_t since);
+
+#endif

@@ -1,0 +1,167 @@
+/* One tt_accel_update of the R-tree (rtree_dyn.h): the ids the scene
+ * stamped after `since`, classified against what the tree holds:
+ *  - live and in the tree (moved): refit where it is, unless, in an update
+ *    that moves few triangles, it jumped (its box's centre moved more than
+ *    twice the sizes of its old and new boxes) or would grow its leaf's
+ *    surface by more than a quarter, or its id was reused by an addition (a
+ *    new triangle): then it is deleted and inserted again. When a quarter
+ *    or more of the live triangles moved
+ *    (a deformation) all are refit: neighbours move together there, and
+ *    the refit keeps the tree's shape;
+ *  - removed and in the tree: deleted (Guttman's condense step);
+ *  - live and not in the tree (added, or a removed id reused): inserted
+ *    (R* choices, splits, forced reinsert).
+ * Order: refits first and the boxes brought up (so every box is exact),
+ * then deletions, then insertions. The compact layout: when nothing was
+ * deleted or inserted, the moved lanes and the boxes that changed are
+ * written in place; otherwise it is repacked from the pointer tree. */
+#include <math.h>
+#include <omp.h>
+#include <string.h>
+
+#include "accel/rtree/rtree_box.h"
+#include "accel/rtree/update/rtree_dyn.h"
+
+static void tri_bounds(const float *v, float bx[6])
+{
+    for (int k = 0; k < 3; k++) {
+        bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
+        bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
+    }
+}
+
+static float diag2(const float b[6])
+{
+    float s = 0.0f;
+    for (int k = 0; k < 3; k++) s += (b[k + 3] - b[k]) * (b[k + 3] - b[k]);
+    return s;
+}
+
+/* The centre moved by more than twice the two boxes' diagonals. */
+static int jumped(const float old[6], const float now[6])
+{
+    float m = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        const float o = (now[k] + now[k + 3]) - (old[k] + old[k + 3]);
+        m += o * o;
+    }
+    const float reach = 2.0f * (sqrtf(diag2(old)) + sqrtf(diag2(now)));
+    return 0.25f * m > reach * reach;
+}
+
+tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *scene,
+                        uint64_t since)
+{
+    const size_t T = scene->triangle_count;
+    double t0 = tt_now();
+    tt_status st = rt_dyn_reserve_ids(d, T ? T : 1);
+    if (st != TT_OK) return st;
+    /* the changed ids, moved ones first in `ids` */
+    size_t changed = 0, moved = 0;
+    /* a tree packed after removals holds the removed slots (as points):
+     * the first update takes them out as if just removed */
+    const int sweep = d->must_repack;
+    for (size_t id = 0; id < T; id++)
+        changed += scene->stamp[id] > since || (sweep && d->leaf_of[id] != TT_INVALID_ID &&
+                                               tt_scene_is_dead(scene, id));
+    uint32_t *ids = tt_alloc_array(ctx, changed ? changed : 1, sizeof *ids);
+    if (!ids) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
+    size_t k = 0;
+    for (size_t id = 0; id < T; id++) {
+        if (scene->stamp[id] <= since &&
+            !(sweep && d->leaf_of[id] != TT_INVALID_ID && tt_scene_is_dead(scene, id)))
+            continue;
+        ids[k++] = (uint32_t)id;
+        moved += !tt_scene_is_dead(scene, id) && d->leaf_of[id] != TT_INVALID_ID;
+    }
+    const size_t live = tt_scene_live_triangle_count(scene);
+    const int deform = moved * 4 >= live && moved > 0;
+    size_t removed = 0, inserted = 0, far = 0, refit = 0;
+
+    /* 1. refits: new boxes into the leaves, marked for the climb */
+    uint8_t *again = tt_calloc(ctx, changed ? changed : 1, 1); /* delete + insert */
+    if (!again) st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
+    /* threads only for big frames: on the shared 2-core box a 69k-triangle
+     * refit ran 2-3x slower in wall time on 2 threads than on 1 (fork/join
+     * under load); 2^17 moved triangles keep the threads busy enough */
+    const int threads = changed < ((size_t)1 << 17) ? 1
+                        : tt_context_threads(ctx) > 0 ? tt_context_threads(ctx)
+                                                      : omp_get_max_threads();
+    if (deform) { /* every moved id refits: its new box, on the threads */
+#pragma omp parallel for schedule(static) num_threads(threads) reduction(+ : refit)
+        for (size_t i = 0; i < changed; i++) {
+            const uint32_t id = ids[i];
+            if (tt_scene_is_dead(scene, id) || d->leaf_of[id] == TT_INVALID_ID) continue;
+            tri_bounds(scene->tri + 9 * (size_t)id, d->tri_box + 6 * (size_t)id);
+            refit++;
+        }
+    }
+    for (size_t i = 0; i < changed && st == TT_OK && !deform; i++) {
+        const uint32_t id = ids[i];
+        if (tt_scene_is_dead(scene, id) || d->leaf_of[id] == TT_INVALID_ID) continue;
+        float nb[6];
+        tri_bounds(scene->tri + 9 * (size_t)id, nb);
+        /* an id reused by an addition is a new triangle; a moved one that
+         * would grow its leaf's surface by more than a quarter (or jumped
+         * away) is better placed again than refit where it was */
+        float lb[6], grown[6];
+        rt_node_bounds(&d->b, d->leaf_of[id], lb);
+        memcpy(grown, lb, sizeof grown);
+        rt_box_grow(grown, nb);
+        const int reborn = scene->born[id] > since;
+        if (reborn || rt_box_area(grown) > 1.25f * rt_box_area(lb) ||
+            jumped(d->tri_box + 6 * (size_t)id, nb)) {
+            again[i] = 1;
+            far++;
+            continue;
+        }
+        memcpy(d->tri_box + 6 * (size_t)id, nb, sizeof nb);
+        st = rt_dyn_set_box(d, id);
+        refit++;
+    }
+    /* a deformation refits the whole tree in one pass; a few moves climb
+     * from their leaves */
+    if (st == TT_OK && deform) rt_dyn_refit_all_par(d, threads);
+    else if (st == TT_OK) st = rt_dyn_refit(d);
+    /* 2. deletions: removed ids and jumped ones */
+    for (size_t i = 0; i < changed && st == TT_OK; i++) {
+        const uint32_t id = ids[i];
+        if (d->leaf_of[id] == TT_INVALID_ID) continue;
+        if (!tt_scene_is_dead(scene, id) && !again[i]) continue;
+        st = rt_dyn_delete(d, id);
+        removed++;
+    }
+    /* 3. insertions: new ids, reused ids, jumped ones */
+    for (size_t i = 0; i < changed && st == TT_OK; i++) {
+        const uint32_t id = ids[i];
+        if (tt_scene_is_dead(scene, id) || d->leaf_of[id] != TT_INVALID_ID) continue;
+        tri_bounds(scene->tri + 9 * (size_t)id, d->tri_box + 6 * (size_t)id);
+        st = rt_dyn_insert(d, id);
+        inserted++;
+    }
+    double t1 = tt_now();
+    /* 4. the compact layout */
+    if (st == TT_OK && removed == 0 && inserted == 0 && !d->must_repack) {
+#pragma omp parallel for schedule(static) num_threads(threads)
+        for (size_t i = 0; i < changed; i++)
+            if (d->leaf_of[ids[i]] != TT_INVALID_ID) rt_dyn_write_lane(d, t, scene, ids[i]);
+        if (deform) rt_dyn_write_all_boxes(d, t, threads);
+        else
+            for (uint32_t j = 0; j < d->dirty_count; j++) rt_dyn_write_box(d, t, d->dirty_list[j]);
+    } else if (st == TT_OK) {
+        st = rt_dyn_repack(d, ctx, t, scene);
+        if (st == TT_OK) d->must_repack = 0;
+    }
+    for (uint32_t j = 0; j < d->dirty_count; j++) d->dirty[d->dirty_list[j]] = 0;
+    d->dirty_count = 0;
+    tt_free(ctx, again);
+    tt_free(ctx, ids);
+    d->last_refit = refit;
+    d->last_removed = removed;
+    d->last_inserted = inserted;
+    d->last_moved_far = far;
+    d->last_tree_s = t1 - t0;
+    d->last_layout_s = tt_now() - t1;
+    d->updates++;
+    return st;
+}
