@@ -77,7 +77,9 @@ static void print_hit(const char *what, int ret, const tt_hit *h)
 static void check_case(tally *s, const char *name, const tt_wray *r, const tt_tri_block *b,
                        uint32_t count, float tmax)
 {
-    const tt_hit init = {tmax, -7.0f, -7.0f, 0xdeadbeefu};
+    /* no hit yet: prim TT_INVALID_ID and t the ray's tmax, the kernels'
+     * contract (tri_block.h); u, v -7 show whether a miss writes them */
+    const tt_hit init = {tmax, -7.0f, -7.0f, TT_INVALID_ID};
     tt_hit ref = init;
     const int ret = tt_tri_blocks_intersect_scalar(r, b, count, &ref);
     const int occ = tt_tri_blocks_occluded_scalar(r, b, count, tmax);
@@ -185,13 +187,17 @@ static void try_ray(tally *s, const char *name, const tri_set *t, const packed *
         const uint32_t j0 = rnd() % p->nb, cnt = 1 + rnd() % (p->nb - j0);
         check_case(s, name, &r, p->blocks + j0, cnt, tmax);
     }
-    tt_hit ref = {tmax, -7.0f, -7.0f, 0xdeadbeefu}, plain = ref;
+    tt_hit ref = {tmax, -7.0f, -7.0f, TT_INVALID_ID}, plain = ref;
     const int ret = tt_tri_blocks_intersect_scalar(&r, p->blocks, p->nb, &ref);
     int found = 0, first = -1;
     for (uint32_t i = 0; i < p->n; i++) {
         const float *v = t->tri + 9 * (size_t)p->ids[i];
         float th, u, w;
-        if (tt_intersect_triangle(&r, v, v + 3, v + 6, plain.t, &th, &u, &w)) {
+        /* the kernels' rule (tri_block.h): the nearest t, and at equal t the
+         * smaller triangle id, whatever the lane order */
+        const float bound = found ? nextafterf(plain.t, INFINITY) : plain.t;
+        if (tt_intersect_triangle(&r, v, v + 3, v + 6, bound, &th, &u, &w) &&
+            (th < plain.t || !found || p->ids[i] < plain.prim)) {
             plain.t = th;
             plain.u = u;
             plain.v = w;
@@ -685,7 +691,8 @@ static void test_bounds(void)
 }
 
 /* Ties: exact copies of a triangle in several lanes and blocks (equal t, u,
- * v); the first copy in scalar order must win on every path, whether the
+ * v); the copy with the smallest triangle id must win on every path (the
+ * kernels' tie rule, tri_block.h: no answer depends on lane order), whether the
  * copies share a block, sit in the two blocks of one AVX-512 pair or in
  * different pairs. */
 static void test_ties(void)
@@ -708,8 +715,10 @@ static void test_ties(void)
         for (int k = 0; k < copies; k++) memcpy(t.tri + 9 * (size_t)(1 + rnd() % (n - 1)), t.tri, 9 * sizeof(float));
         packed p = pack(&t, 0);
         uint32_t first = UINT32_MAX;
-        for (uint32_t i = 0; i < n && first == UINT32_MAX; i++)
-            if (memcmp(t.tri + 9 * (size_t)p.ids[i], t.tri, 9 * sizeof(float)) == 0) first = p.ids[i];
+        for (uint32_t i = 0; i < n; i++)
+            if (memcmp(t.tri + 9 * (size_t)p.ids[i], t.tri, 9 * sizeof(float)) == 0 &&
+                p.ids[i] < first)
+                first = p.ids[i];
         for (int ray = 0; ray < 8; ray++) {
             float o[3], target[3];
             random_point(o, 3.0f);
@@ -729,7 +738,7 @@ static void test_ties(void)
                 tt_hit h = {INFINITY, 0, 0, TT_INVALID_ID};
                 kernels[k].intersect(&r, p.blocks, p.nb, &h);
                 if (h.t == tc && memcmp(t.tri + 9 * (size_t)h.prim, t.tri, 9 * sizeof(float)) == 0) {
-                    CHECK_MSG(h.prim == first, "%s: tie went to %u, not the first copy %u",
+                    CHECK_MSG(h.prim == first, "%s: tie went to %u, not the smallest id %u",
                               tt_isa_name(isas[k]), h.prim, first);
                     checked++;
                 }
