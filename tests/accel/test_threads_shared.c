@@ -79,7 +79,7 @@ static tt_scene *make_scene(tt_context *ctx)
 }
 
 typedef struct answers {
-    tt_hit hit[RAYS], batch_hit[RAYS];
+    tt_hit hit[RAYS], batch_hit[RAYS], mode_hit[RAYS];
     uint8_t occ[RAYS], batch_occ[RAYS];
     tt_ray_stats stats, batch_stats;
 } answers;
@@ -123,11 +123,17 @@ static void trace_all(job *j)
     }
     tt_batch_options bo;
     tt_batch_options_default(&bo);
+    /* counts are per ray only ray by ray (a packet's rays share its visits),
+     * so the counting batch runs with packets off; the others alternate
+     * between packets on and off with the thread */
     bo.stats = &o->batch_stats;
-    bo.packets = (uint32_t)(j->offset & 1 ? TT_PACKETS_ON : TT_PACKETS_OFF);
+    bo.packets = TT_PACKETS_OFF;
     meet(j);
     if (tt_intersect(j->accel, j->rays, RAYS, o->batch_hit, NULL, &bo) != TT_OK) j->failed = 1;
     bo.stats = NULL;
+    bo.packets = (uint32_t)(j->offset & 1 ? TT_PACKETS_ON : TT_PACKETS_OFF);
+    meet(j);
+    if (tt_intersect(j->accel, j->rays, RAYS, o->mode_hit, NULL, &bo) != TT_OK) j->failed = 1;
     meet(j);
     if (tt_occluded(j->accel, j->rays, RAYS, o->batch_occ, NULL, &bo) != TT_OK) j->failed = 1;
 }
@@ -178,6 +184,7 @@ static void check_structure(tt_context *ctx, const tt_scene *scene, const tt_bui
         for (int i = 0; i < RAYS; i++)
             bad += memcmp(&m->hit[i], &alone.hit[i], sizeof(tt_hit)) != 0 ||
                    memcmp(&m->batch_hit[i], &alone.hit[i], sizeof(tt_hit)) != 0 ||
+                   memcmp(&m->mode_hit[i], &alone.hit[i], sizeof(tt_hit)) != 0 ||
                    m->occ[i] != alone.occ[i] || m->batch_occ[i] != alone.occ[i];
         CHECK_MSG(!jobs[t].failed && bad == 0, "%s, thread %d: %zu of %d rays differ from alone",
                   what, t, bad, RAYS);
