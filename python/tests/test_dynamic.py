@@ -22,7 +22,7 @@ def test_edits_and_update(small_scene, accel):
     a = tt.Accel(scene, accel)
     assert a.updates_in_place == (accel == "rtree")
     rays = random_rays(scene, 300)
-    rest = scene.vertices()
+    rest = scene.vertices
     rng = np.random.default_rng(3)
     for frame in range(1, 4):
         pos = rest.copy()

@@ -34,7 +34,6 @@ _SIGNATURES = {
     "tt_scene_remove_triangles": (_st, [_p, _p, _sz]),
     "tt_scene_set_triangles": (_st, [_p, _p, _p, _sz]),
     "tt_scene_move_vertices": (_st, [_p, _p, _p, _sz]),
-    "tt_scene_vertex": (_st, [_p, _sz, ctypes.c_float * 3]),
     "tt_scene_triangle_alive": (ctypes.c_int, [_p, ctypes.c_uint32]),
     "tt_scene_live_triangle_count": (_sz, [_p]),
     "tt_scene_version": (ctypes.c_uint64, [_p]),
@@ -85,7 +84,13 @@ def _ids(ids, name):
 
 def add_triangles(self, triangles):
     """Adds triangles ((N, 3, 3) or (N, 9) floats); returns their ids (uint32),
-    freed ids first (the most recently removed first)."""
+    freed ids first (the most recently removed first).
+
+    >>> import treetrace as tt
+    >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    >>> s.add_triangles([[[0, 0, 1], [1, 0, 1], [0, 1, 1]]])
+    array([1], dtype=uint32)
+    """
     t = _triangles(triangles, "triangles")
     out = np.empty(len(t), np.uint32)
     check(lib.tt_scene_add_triangles(self._h, address(t), len(t), address(out)),
@@ -94,14 +99,27 @@ def add_triangles(self, triangles):
 
 
 def remove_triangles(self, ids):
-    """Removes live triangles by id; the ids become free for later additions."""
+    """Removes live triangles by id; the ids become free for later additions.
+
+    >>> import treetrace as tt
+    >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    >>> s.remove_triangles([0]); s.is_alive(0), s.live_triangle_count
+    (False, 0)
+    """
     i = _ids(ids, "ids")
     check(lib.tt_scene_remove_triangles(self._h, address(i), len(i)), self.context._h)
 
 
 def set_triangles(self, ids, triangles):
     """Moves whole triangles: ids[k] gets triangles[k] (shared vertices are
-    copied first, so neighbours stay)."""
+    copied first, so neighbours stay).
+
+    >>> import treetrace as tt
+    >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    >>> s.set_triangles([0], [[[0, 0, 2], [1, 0, 2], [0, 1, 2]]])
+    >>> s.triangles()[0, :, 2]
+    array([2., 2., 2.], dtype=float32)
+    """
     i = _ids(ids, "ids")
     t = _triangles(triangles, "triangles")
     if len(t) != len(i):
@@ -110,7 +128,13 @@ def set_triangles(self, ids, triangles):
 
 
 def move_vertices(self, positions, ids=None):
-    """Moves vertices: positions (N, 3) for vertex ids (None: 0 .. N-1)."""
+    """Moves vertices: positions (N, 3) for vertex ids (None: 0 .. N-1).
+
+    >>> import treetrace as tt
+    >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    >>> s.move_vertices([[0, 0, 5]], [2]); s.vertices[2]
+    array([0., 0., 5.], dtype=float32)
+    """
     p = np.ascontiguousarray(positions, dtype=np.float32)
     if p.ndim != 2 or p.shape[1] != 3:
         raise InvalidArgumentError("positions: expected shape (N, 3), got %s" % (p.shape,), 1)
@@ -123,24 +147,28 @@ def move_vertices(self, positions, ids=None):
     check(lib.tt_scene_move_vertices(self._h, address(i), address(p), len(i)), self.context._h)
 
 
-def vertices(self):
-    """All vertex positions as a (V, 3) float32 array (e.g. a rest pose)."""
-    n = self.vertex_count
-    out = np.empty((n, 3), np.float32)
-    buf = (ctypes.c_float * 3)()
-    for k in range(n):
-        check(lib.tt_scene_vertex(self._h, k, buf), self.context._h)
-        out[k] = buf[:]
-    return out
-
-
 def is_alive(self, triangle_id):
+    """Whether the triangle id is live (added and not removed since).
+
+    >>> import treetrace as tt
+    >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    >>> s.is_alive(0), s.is_alive(7)
+    (True, False)
+    """
     return bool(lib.tt_scene_triangle_alive(self._h, int(triangle_id)))
 
 
 def update(self):
     """Brings the structure up to date with its scene's edits (in place for the
-    R-tree's compact layout, a rebuild for the others)."""
+    R-tree's compact layout, a rebuild for the others).
+
+    >>> import treetrace as tt
+    >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    >>> a = tt.Accel(s, "rtree")
+    >>> s.move_vertices([[0, 0, -1], [1, 0, -1], [0, 1, -1]]); a.update()
+    >>> float(a.intersect([[0.2, 0.2, 1]], (0, 0, -1)).t[0])
+    2.0
+    """
     check(lib.tt_accel_update(self._h), self.context._h)
 
 
@@ -148,7 +176,6 @@ Scene.add_triangles = add_triangles
 Scene.remove_triangles = remove_triangles
 Scene.set_triangles = set_triangles
 Scene.move_vertices = move_vertices
-Scene.vertices = vertices
 Scene.is_alive = is_alive
 Scene.live_triangle_count = property(lambda self: lib.tt_scene_live_triangle_count(self._h))
 Scene.version = property(lambda self: int(lib.tt_scene_version(self._h)))
