@@ -39,6 +39,9 @@ typedef struct tt_packet_stats {
     uint64_t fallback_rays; /* rays finished as single rays (divergence)    */
 } tt_packet_stats;
 
+struct tt_af_writer;
+struct tt_af_file;
+
 typedef struct tt_accel_vtable {
     const char *name;
     unsigned caps;    /* TT_CAP_* bits */
@@ -78,6 +81,18 @@ typedef struct tt_accel_vtable {
     /* Emits structure statistics as key/value pairs. */
     void (*statistics)(const tt_accel *accel, tt_stat_fn fn, void *user);
     size_t (*memory)(const tt_accel *accel);
+    /* Optional: saved structures (io/accel_file.h, docs/accel-file.md).
+     * save adds the built structure's sections to *w; NULL: it cannot be
+     * saved, and no_save says why. load fills accel->impl from a verified
+     * file (accel->options already read from it), using its arrays in place
+     * where the layout allows, and validates every index its traversals
+     * follow, so that a hostile file is refused, never traced; unload frees
+     * what load allocated (never the file's arrays) and replaces destroy
+     * for a loaded structure. */
+    tt_status (*save)(const tt_accel *accel, struct tt_af_writer *w);
+    tt_status (*load)(tt_accel *accel, const struct tt_af_file *f);
+    void (*unload)(tt_accel *accel);
+    const char *no_save;
 } tt_accel_vtable;
 
 struct tt_accel {
@@ -88,6 +103,7 @@ struct tt_accel {
     tt_isa isa; /* options.isa resolved (core/isa.h) before build runs */
     double build_s;
     void *impl;
+    struct tt_af_file *file; /* the mapped file of a loaded structure, else NULL */
 };
 
 /* The structures compiled into this build. */
@@ -100,6 +116,13 @@ extern const tt_accel_vtable tt_embree_vtable;
 
 /* Lookup by name; NULL if unknown. */
 const tt_accel_vtable *tt_accel_find(const char *name);
+
+/* Saved structures (accel_io.c): a loaded structure's teardown (unload, the
+ * file closed, the accel freed), and the loader over an opened file, which
+ * it takes over (closed on error too); the fuzzer and tests call it. */
+void tt_accel_unload(tt_accel *accel);
+tt_status tt_accel_load_opened(tt_context *ctx, const tt_scene *scene, struct tt_af_file *file,
+                               tt_isa isa, tt_accel **out);
 
 /* Helpers for implementations. */
 

@@ -6,6 +6,7 @@
 #include "accel/rtree/rtree.h"
 #include "accel/rtree/rtree_box.h"
 #include "accel/rtree/build/rtree_bulk.h"
+#include "accel/rtree/rtree_io.h"
 
 #include <math.h>
 #include <string.h>
@@ -232,4 +233,8 @@ const tt_accel_vtable tt_rtree_vtable = {
     .check = rtree_check,
     .statistics = rtree_statistics,
     .memory = rtree_memory,
+    /* saved structures (rtree_io.c) */
+    .save = rtree_io_save,
+    .load = rtree_io_load,
+    .unload = rtree_io_unload,
 };
