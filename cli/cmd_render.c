@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "accel_args.h"
+#include "accel_file.h"
 #include "args.h"
 #include "common.h"
 #include "emit.h"
@@ -22,6 +23,7 @@ typedef struct render_args {
     int heat_metric, heat_metric_given;
     int device; /* index into devices[] = tt_device */
     cli_accel_args accel;
+    const char *accel_file; /* --accel-file: a saved structure (accel_file.h) */
 } render_args;
 
 void cmd_render_help(FILE *out)
@@ -64,6 +66,9 @@ void cmd_render_help(FILE *out)
             "\n");
     cli_accel_args_help(out);
     fprintf(out,
+            "  --accel-file FILE        the structure saved by `treetrace build` (mapped, not\n"
+            "                           built); it fixes the structure and its options\n");
+    fprintf(out,
             "\n"
             "examples:\n"
             "  treetrace render --size 512x512 --png bunny.png\n"
@@ -105,6 +110,7 @@ static int parse_one(cli_args *a, render_args *r)
     else if (cli_is(a, "--view")) return path_value(a, "--view", &r->view);
     else if (cli_is(a, "--views")) return path_value(a, "--views", &r->views);
     else if (cli_is(a, "--png")) return path_value(a, "--png", &r->png);
+    else if (cli_is(a, "--accel-file")) return path_value(a, "--accel-file", &r->accel_file);
     else if (cli_is(a, "--hits")) return path_value(a, "--hits", &r->hits);
     else if (cli_is(a, "--heatmap")) return path_value(a, "--heatmap", &r->heatmap);
     else if (cli_is(a, "--eye")) return vec_value(a, "--eye", r->eye, &r->has_eye);
@@ -160,6 +166,8 @@ static int check_combination(render_args *r)
         return cli_usage_error(cmd, "--eye and --look are the same point");
     if (r->has_up && r->up[0] == 0.0f && r->up[1] == 0.0f && r->up[2] == 0.0f)
         return cli_usage_error(cmd, "option --up: the zero vector has no direction");
+    int st = cli_accel_file_check(cmd, r->accel_file, &r->accel);
+    if (st != CLI_OK) return st;
     return cli_accel_args_finish(cmd, &r->accel);
 }
 
@@ -248,8 +256,8 @@ static void emit_results(const render_args *r, const char *scene_path, const tt_
     emit_num(&e, "load_s", load_s);
     emit_str(&e, "accel", tt_accel_name(accel));
     emit_str(&e, "isa", tt_isa_name(tt_accel_isa(accel)));
-    cli_accel_args_emit(&e, &r->accel.build);
-    emit_num(&e, "build_s", tt_accel_build_seconds(accel));
+    cli_accel_file_emit(&e, accel, r->accel_file, &r->accel.build);
+    emit_num(&e, r->accel_file ? "accel_load_s" : "build_s", tt_accel_build_seconds(accel));
     emit_u64(&e, "accel_bytes", tt_accel_memory_bytes(accel));
     emit_str(&e, "view", r->view ? r->view : (r->has_eye ? "explicit" : "framed"));
     emit_vec3(&e, "eye", cam->eye);
@@ -337,7 +345,8 @@ int cmd_render(int argc, char **argv)
     tt_render_result *res = NULL;
     double load_s = 0.0;
     tt_camera cam;
-    st = cli_load_and_build("render", ctx, r.scene, &r.accel.build, &scene, &load_s, &accel);
+    st = cli_load_and_get_accel("render", ctx, r.scene, r.accel_file, &r.accel.build, &scene,
+                                &load_s, &accel);
     if (st == CLI_OK) st = make_camera(ctx, &r, scene, &cam);
     if (st == CLI_OK) {
         tt_render_options ro;
