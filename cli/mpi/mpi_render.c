@@ -47,7 +47,7 @@ static int all_ok(job *j, int ok, const char *what)
     int all = 0;
     MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
     if (!all && ok && j->rank == 0)
-        fprintf(stderr, "treetrace render: another rank failed (%s); the job ends\n", what);
+        fprintf(stderr, "treetrace render: rank 0: another rank failed; the job ends\n");
     return all;
 }
 
@@ -94,8 +94,14 @@ static uint32_t pass(job *j, tt_frame *f, MPI_Win win, long *counter, uint32_t *
     return count;
 }
 
-/* Per pixel on the wire: prim, t, shadow, and the 5 counts with a heatmap. */
-static size_t pixel_bytes(const tt_frame *f) { return 9 + (f->pixel_stats[0] ? 20 : 0); }
+/* Per pixel on the wire: prim, t, shadow (the per-pixel counts of a
+ * heatmap come from the counting pass, whose tiles were shared out apart:
+ * they are summed by a reduction instead, each pixel counted on one rank). */
+static size_t pixel_bytes(const tt_frame *f)
+{
+    (void)f;
+    return 9;
+}
 
 static void pack_tile(const tt_frame *f, uint32_t tile, uint8_t **p, int unpack)
 {
@@ -104,20 +110,32 @@ static void pack_tile(const tt_frame *f, uint32_t tile, uint8_t **p, int unpack)
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = x0; x < x1; x++) {
             const size_t i = (size_t)y * f->width + x;
-            void *fields[8] = {&f->prim[i], &f->t[i], &f->shadow[i]};
-            size_t sizes[8] = {4, 4, 1};
-            int nf = 3;
-            if (f->pixel_stats[0])
-                for (int m = 0; m < TT_HEAT_METRIC_COUNT; m++) {
-                    fields[nf] = &f->pixel_stats[m][i];
-                    sizes[nf++] = 4;
-                }
-            for (int k = 0; k < nf; k++) {
+            void *fields[3] = {&f->prim[i], &f->t[i], &f->shadow[i]};
+            const size_t sizes[3] = {4, 4, 1};
+            for (int k = 0; k < 3; k++) {
                 if (unpack) memcpy(fields[k], *p, sizes[k]);
                 else memcpy(*p, fields[k], sizes[k]);
                 *p += sizes[k];
             }
         }
+}
+
+/* Byte runs of any size, in messages of at most 1 GiB (MPI counts are int). */
+#define PIECE ((size_t)1 << 30)
+static void send_bytes(const uint8_t *p, size_t n)
+{
+    for (size_t at = 0; at < n || at == 0; at += PIECE) {
+        MPI_Send(p + at, (int)(n - at < PIECE ? n - at : PIECE), MPI_BYTE, 0, 3, MPI_COMM_WORLD);
+        if (n == 0) break;
+    }
+}
+static void recv_bytes(uint8_t *p, size_t n, int src)
+{
+    for (size_t at = 0; at < n || at == 0; at += PIECE) {
+        MPI_Recv(p + at, (int)(n - at < PIECE ? n - at : PIECE), MPI_BYTE, src, 3, MPI_COMM_WORLD,
+                 MPI_STATUS_IGNORE);
+        if (n == 0) break;
+    }
 }
 
 /* Rank 0 receives every other rank's tiles into its frame. */
@@ -130,7 +148,7 @@ static int gather(job *j, tt_frame *f, const uint32_t *mine, uint32_t count)
         for (uint32_t i = 0; i < count; i++) pack_tile(f, mine[i], &p, 0);
         MPI_Send(&count, 1, MPI_UINT32_T, 0, 1, MPI_COMM_WORLD);
         MPI_Send(mine, (int)count, MPI_UINT32_T, 0, 2, MPI_COMM_WORLD);
-        MPI_Send(buf, (int)(p - buf), MPI_BYTE, 0, 3, MPI_COMM_WORLD);
+        send_bytes(buf, (size_t)(p - buf));
         free(buf);
         return 1;
     }
@@ -141,7 +159,14 @@ static int gather(job *j, tt_frame *f, const uint32_t *mine, uint32_t count)
         uint32_t n = 0;
         MPI_Recv(&n, 1, MPI_UINT32_T, src, 1, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
         MPI_Recv(tiles, (int)n, MPI_UINT32_T, src, 2, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-        MPI_Recv(buf, (int)(per_tile * n), MPI_BYTE, src, 3, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        /* what the sender packed: its tiles' pixels (edge tiles are smaller) */
+        size_t bytes = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            uint32_t x0, y0, x1, y1;
+            tt_frame_tile_rect(f, tiles[i], &x0, &y0, &x1, &y1);
+            bytes += (size_t)(x1 - x0) * (y1 - y0) * pixel_bytes(f);
+        }
+        recv_bytes(buf, bytes, src);
         uint8_t *p = buf;
         for (uint32_t i = 0; i < n && ok; i++) pack_tile(f, tiles[i], &p, 1);
     }
@@ -214,6 +239,10 @@ static int render_tiles(job *j)
     if (ro.stats || ro.keep_pixel_stats) { /* the counting pass first, as tt_render */
         pass(j, &f, win, counter, mine, 1, counts, scratch);
         s.has_stats = 1;
+        const int pixels = (int)(ro.width * ro.height);
+        for (int m = 0; m < TT_HEAT_METRIC_COUNT && f.pixel_stats[m]; m++)
+            MPI_Reduce(j->rank == 0 ? MPI_IN_PLACE : f.pixel_stats[m], f.pixel_stats[m], pixels,
+                       MPI_UINT32_T, MPI_SUM, 0, MPI_COMM_WORLD);
     }
     double *walls = malloc(sizeof(double) * (size_t)ro.repeat);
     double best_busy = 1e300, best[2] = {1e300, 1e300};
