@@ -95,6 +95,7 @@ tt_status tt_accel_load(tt_context *ctx, const tt_scene *scene, const char *path
     if (!ctx) return TT_ERR_INVALID_ARGUMENT;
     if (!scene || !path)
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "tt_accel_load: no scene or no path");
+    const double t0 = tt_now(); /* the whole load: map, checksums, validation */
     tt_af_file *f = tt_calloc(ctx, 1, sizeof *f);
     if (!f) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
     tt_status st = tt_af_open(ctx, path, f);
@@ -102,7 +103,9 @@ tt_status tt_accel_load(tt_context *ctx, const tt_scene *scene, const char *path
         tt_free(ctx, f);
         return st;
     }
-    return tt_accel_load_opened(ctx, scene, f, isa, out);
+    st = tt_accel_load_opened(ctx, scene, f, isa, out);
+    if (st == TT_OK) (*out)->build_s = tt_now() - t0;
+    return st;
 }
 
 int tt_accel_loaded(const tt_accel *a) { return a && a->file != NULL; }
