@@ -75,6 +75,9 @@ typedef struct bench_options {
     int heatmaps;
     double budget_s; /* timed repeats are cut so one run stays near this */
     tt_device device; /* TT_DEVICE_GPU: the GPU's configurations again on it */
+    /* Under mpirun (cli/mpi/mpi_bench.c): this rank runs the scenes whose
+     * index is rank mod ranks; rank 0 gathers and writes. ranks <= 1: all. */
+    int rank, ranks;
 } bench_options;
 
 /* Parses argv (argv[0] = "bench"). Returns 0 ok, 1 --help was printed (exit

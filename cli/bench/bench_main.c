@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include "bench/bench.h"
+#include "mpi/mpi.h"
 
 static int run_bench(const bench_options *o, FILE *err)
 {
@@ -68,6 +69,13 @@ static int run_bench(const bench_options *o, FILE *err)
         goto done_scenes;
     }
     if (bench_run_all(ctx, o, &scenes, &m, out, &res, err) != 0) goto done_matrix;
+    if (o->ranks > 1) { /* MPI: rank 0 gathers every rank's runs and writes */
+        if (cli_mpi_bench_gather(&m, &res) != 0) goto done_results;
+        if (o->rank != 0) {
+            rc = 0;
+            goto done_results;
+        }
+    }
     char path[4200];
     snprintf(path, sizeof path, "%s/results.csv", out);
     int bad = bench_write_csv(path, &scenes, &m, &res, err);
@@ -81,6 +89,7 @@ static int run_bench(const bench_options *o, FILE *err)
         fputc('\n', err);
         rc = failed ? 1 : 0;
     }
+done_results:
     bench_results_free(&res);
 done_matrix:
     bench_matrix_free(&m);
@@ -97,6 +106,15 @@ int tt_cli_bench(int argc, char **argv)
     int rc = bench_parse_options(argc, argv, &o, stderr);
     if (rc == 1) return 0; /* --help */
     if (rc != 0) return 2;
+    if (cli_mpi_wanted(0)) { /* under mpirun: the matrix across ranks */
+        if (cli_mpi_bench_begin(&o.rank, &o.ranks) != 0) {
+            bench_options_free(&o);
+            return 2;
+        }
+        rc = cli_mpi_bench_end(run_bench(&o, stderr));
+        bench_options_free(&o);
+        return rc;
+    }
     rc = run_bench(&o, stderr);
     bench_options_free(&o);
     return rc;

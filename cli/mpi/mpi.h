@@ -14,6 +14,15 @@ int cli_mpi_wanted(int option_given);
  * reports); without MPI, prints that this build has none. */
 int cli_mpi_render(render_args *r);
 
+/* `treetrace bench` under mpirun (mpi_bench.c): begin (MPI_Init; this
+ * rank and the world size), rank 0's gathering of the other ranks' runs
+ * into its results, and the end (the job's status: the worst rank's). */
+struct bench_matrix;
+struct bench_results;
+int cli_mpi_bench_begin(int *rank, int *ranks);
+int cli_mpi_bench_gather(const struct bench_matrix *m, struct bench_results *res);
+int cli_mpi_bench_end(int rc);
+
 /* The launcher's world size from the environment (1 when not launched). */
 int cli_mpi_env_size(void);
 
