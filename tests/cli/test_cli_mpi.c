@@ -27,7 +27,13 @@ static int shell(const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(cmd, sizeof cmd, fmt, ap);
     va_end(ap);
-    snprintf(full, sizeof full, "timeout 300 %s >%s 2>&1", cmd, tt_cli_tmp("out.txt"));
+    char script[1024];
+    snprintf(script, sizeof script, "%s", tt_cli_tmp("cmd.sh"));
+    FILE *f = fopen(script, "w");
+    if (!f) return 127;
+    fprintf(f, "%s\n", cmd);
+    fclose(f);
+    snprintf(full, sizeof full, "timeout 300 bash %s >%s 2>&1", script, tt_cli_tmp("out.txt"));
     int st = system(full);
     return WIFEXITED(st) ? WEXITSTATUS(st) : 128;
 }
@@ -131,6 +137,26 @@ static void failing_rank(void)
     free(out);
 }
 
+/* `treetrace bench` across ranks: the same runs and results (the columns
+ * that are not timings) as one process, written once by rank 0. */
+static void bench(void)
+{
+    const char *opts = "bench --only F3 --scene bunny_res4,cornell --size 32x32 --repeat 1 "
+                       "--no-heatmaps --threads 1";
+    char one[1024], two[1024];
+    snprintf(one, sizeof one, "%s", tt_cli_tmp("bench1"));
+    snprintf(two, sizeof two, "%s", tt_cli_tmp("bench2"));
+    int st = shell("%s %s --scenes %s --out %s", TT_CLI_PATH, opts, TT_SCENES_DIR, one);
+    CHECK(st == 0);
+    st = shell("%s %s %s --scenes %s --out %s", MPIRUN, TT_CLI_PATH, opts, TT_SCENES_DIR, two);
+    CHECK(st == 0);
+    st = shell("cmp <(cut -d, -f1-5,8-13,20-23 %s/results.csv) <(cut -d, -f1-5,8-13,20-23 "
+               "%s/results.csv) && [ $(wc -l < %s/results.csv) -eq 9 ]", one, two, two);
+    char *out = output();
+    CHECK_MSG(st == 0, "bench across ranks differs from one process: %s", out ? out : "");
+    free(out);
+}
+
 static void saved_structure(void)
 {
     const char *scene = tt_test_scene_path("sibenik.obj");
@@ -167,6 +193,7 @@ int main(void)
     frames();
     failing_rank();
     saved_structure();
+    bench();
     return tt_test_finish();
 #endif
 }
