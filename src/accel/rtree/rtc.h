@@ -34,11 +34,17 @@ size_t rtc_bytes(const rtc_tree *t);
  * ISA `isa` (resolved, not TT_ISA_AUTO). */
 void rtc_select(rtc_tree *t, int traversal, tt_isa isa);
 
-/* Child i's box of node record rec (its SoA rows, stride S). */
+/* Child i's box of node record rec. */
 static inline void rtc_child_box(const tt_rtc *c, const float *rec, uint32_t i, float out[6])
 {
-    for (uint32_t k = 0; k < 6; k++) out[k] = rec[k * c->S + i];
+    tt_rtc_child_box(c, rec, i, out);
 }
+
+/* Writes a record's child boxes: `count` exact boxes in SoA rows of
+ * `stride` (box[k stride + i], row k of lo x y z, hi x y z); entries
+ * count .. S - 1 get the +inf mark. For the packer and for anything that
+ * updates a record in place (a refit). */
+void rtc_set_boxes(const tt_rtc *c, float *rec, const float *box, uint32_t stride, uint32_t count);
 
 tt_status rtc_check(tt_context *ctx, const rtc_tree *t, const tt_scene *scene);
 void rtc_statistics(const rtc_tree *t, tt_stat_fn fn, void *user);

@@ -8,7 +8,8 @@
  *     reference; its interior children are consecutive nodes whose parent
  *     link names it;
  *  3. every child box is finite and exactly the union of the child's
- *     content (child boxes, or the leaf's triangles' vertices);
+ *     content (child boxes, or the leaf's triangles' vertices); level-1
+ *     entries are leaf references, the others node references;
  *  4. leaves: m..M triangles (the root's only leaf may hold fewer) in
  *     lanes inside the block array that no other leaf holds, a node's
  *     leaves within 2 M blocks from its first leaf's (the traversal keeps a
@@ -40,9 +41,12 @@ static tt_status check_leaf(walk *w, uint32_t n, uint32_t i, uint32_t ref, int l
     const tt_rtc *c = &w->t->c;
     uint32_t nb;
     (void)tt_rtc_leaf_blocks(c, ref, &nb);
-    const uint64_t first = (uint64_t)(ref >> 7) * TT_TRI_BLOCK_W + tt_rtc_leaf_lane(ref);
+    const uint64_t first =
+        (uint64_t)tt_rtc_leaf_block(ref) * TT_TRI_BLOCK_W + tt_rtc_leaf_lane(ref);
     const uint32_t cnt = tt_rtc_leaf_count(ref);
-    if ((ref >> 7) + nb > c->blocks)
+    if (!tt_rtc_is_leaf(ref))
+        return FAIL("rtree compact: entry %u of node %u (level 1) is not tagged a leaf", i, n);
+    if ((uint64_t)tt_rtc_leaf_block(ref) + nb > c->blocks)
         return FAIL("rtree compact: leaf %u of node %u runs past the %u blocks", i, n, c->blocks);
     const uint32_t lo = lone ? 1u : (uint32_t)w->t->m;
     if (cnt < lo || cnt > c->M)
@@ -119,11 +123,13 @@ static tt_status check_node(walk *w, uint32_t n, uint32_t l, uint32_t parent, fl
     /* the stack traversal's per-node block set needs the first leaf's
      * block lowest and every other within 2 M blocks of it */
     for (uint32_t i = 0; l == 1 && i < cnt; i++)
-        if ((ref[i] >> 7) < (ref[0] >> 7) || (ref[i] >> 7) - (ref[0] >> 7) + 2 > 2 * c->M)
+        if (tt_rtc_leaf_block(ref[i]) < tt_rtc_leaf_block(ref[0]) ||
+            tt_rtc_leaf_block(ref[i]) - tt_rtc_leaf_block(ref[0]) + 2 > 2 * c->M)
             return FAIL("rtree compact: leaf %u of node %u starts at block %u, outside the "
-                        "node's span from block %u", i, n, ref[i] >> 7, ref[0] >> 7);
+                        "node's span from block %u", i, n, tt_rtc_leaf_block(ref[i]),
+                        tt_rtc_leaf_block(ref[0]));
     for (uint32_t i = 0; l > 1 && i < cnt; i++)
-        if (ref[i] != ref[0] + i || ref[0] <= n)
+        if (tt_rtc_is_leaf(ref[i]) || ref[i] != ref[0] + i || ref[0] <= n)
             return FAIL("rtree compact: the children of node %u are not consecutive nodes "
                         "after it (entry %u is node %u)", n, i, ref[i]);
     rt_box_empty(box);

@@ -34,7 +34,7 @@ static void visit(const tt_rtc *c, acc *a, uint32_t n, const float box[6])
     for (uint32_t i = 0; i < cnt; i++) {
         float cb[6];
         rtc_child_box(c, rec, i, cb);
-        if (l > 1) {
+        if (!tt_rtc_is_leaf(ref[i])) {
             visit(c, a, ref[i], cb);
             continue;
         }

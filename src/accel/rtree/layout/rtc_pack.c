@@ -11,6 +11,7 @@
 
 _Static_assert(TT_RT_MAX_M <= 16 && TT_TRI_BLOCK_W == 8,
                "a leaf reference holds a lane in a block (3 bits) and count - 1 (4 bits)");
+_Static_assert(TT_RT_MAX_M <= 31, "entry masks are 32 bits");
 
 size_t rtc_bytes(const rtc_tree *t)
 {
@@ -75,6 +76,13 @@ static void count_tree(const rt_builder *b, uint32_t n, uint64_t *nodes, lanes_f
     for (int i = 0; i < h->count; i++) count_tree(b, ch[i], nodes, f);
 }
 
+void rtc_set_boxes(const tt_rtc *c, float *rec, const float *box, uint32_t stride, uint32_t count)
+{
+    for (uint32_t k = 0; k < 6; k++)
+        for (uint32_t i = 0; i < c->S; i++)
+            rec[k * c->S + i] = i < count ? box[k * stride + i] : TT_INF;
+}
+
 typedef struct packer {
     const rt_builder *b;
     const float *scene_tri;
@@ -134,7 +142,7 @@ tt_status rtc_pack(tt_context *ctx, const rt_builder *b, const float *scene_tri,
         return tt_error(ctx, TT_ERR_UNSUPPORTED,
                         "rtree compact layout: the tree has %u levels of %u entries; the "
                         "traversal stack holds %d", height + 1, M, TT_RTC_STACK_SIZE);
-    if (nodes >= UINT32_MAX || blocks >= (uint64_t)1 << TT_RTC_LEAF_BLOCK_BITS)
+    if (nodes >= TT_RTC_LEAF_BIT || blocks >= (uint64_t)1 << TT_RTC_LEAF_BLOCK_BITS)
         return tt_error(ctx, TT_ERR_OUT_OF_MEMORY,
                         "rtree compact layout: %llu nodes and %llu triangle blocks are beyond "
                         "32-bit references", (unsigned long long)nodes,
@@ -168,9 +176,9 @@ tt_status rtc_pack(tt_context *ctx, const rt_builder *b, const float *scene_tri,
         if (root->count > 0) {
             float rb[6];
             rt_node_bounds(b, b->root, rb);
-            for (int k = 0; k < 6; k++) rec[k * c->S] = rb[k];
-            ((uint32_t *)(rec + 6 * c->S))[0] = put_leaf(&pk, rt_node_child(b, b->root),
-                                                         root->count);
+            rtc_set_boxes(c, rec, rb, 1, 1);
+            ((uint32_t *)tt_rtc_child(c, rec))[0] = put_leaf(&pk, rt_node_child(b, b->root),
+                                                             root->count);
         }
     } else {
         /* depth first; a node's interior children get consecutive indices
@@ -188,9 +196,8 @@ tt_status rtc_pack(tt_context *ctx, const rt_builder *b, const float *scene_tri,
             const float *soa = rt_node_box(b, bn);
             const uint32_t *ch = rt_node_child(b, bn);
             float *rec = record_init(&pk, n, st_parent[sp], h->count, h->level);
-            uint32_t *ref = (uint32_t *)(rec + 6 * c->S);
-            for (int i = 0; i < h->count; i++)
-                for (int k = 0; k < 6; k++) rec[k * c->S + (uint32_t)i] = soa[k * b->cap + i];
+            uint32_t *ref = (uint32_t *)tt_rtc_child(c, rec);
+            rtc_set_boxes(c, rec, soa, (uint32_t)b->cap, h->count);
             if (h->level == 1) {
                 for (int i = 0; i < h->count; i++) {
                     const rt_node_hdr *leaf = &b->hdr[ch[i]];

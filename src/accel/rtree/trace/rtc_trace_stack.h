@@ -73,13 +73,13 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
                  * a larger (or the same) closest hit. This node's blocks
                  * lie within 2 M of its first leaf's, which has the
                  * lowest index. */
-                const uint32_t base = child[0] >> 7;
+                const uint32_t base = tt_rtc_leaf_block(child[0]);
                 uint64_t done = 0;
                 for (uint32_t j = 0; j < k && ot[j] < h.t; j++) {
                     const uint32_t ref = child[ord[j]];
                     uint32_t nb;
                     const tt_tri_block *b = tt_rtc_leaf_blocks(t, ref, &nb);
-                    const uint32_t off = (ref >> 7) - base;
+                    const uint32_t off = tt_rtc_leaf_block(ref) - base;
                     TT_COUNT(stats, nodes, 1);
                     TT_COUNT(stats, leaves, 1);
                     for (uint32_t q = 0; q < nb; q++) {

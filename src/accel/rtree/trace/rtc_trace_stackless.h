@@ -2,11 +2,11 @@
  * compiled once per statistics variant (accel/stats_variant.h), scalar and
  * TT_HD so the GPU can run it. Feldmann's Listing 1 walks the complete tree
  * by index arithmetic; here the same walk uses the stored links: at node n
- * the children are tested in memory order from position i; a hit interior
- * child is entered at position 0, a hit leaf tested; when n's entries are
- * exhausted the walk climbs to the parent and resumes after n's position
- * there (n minus the parent's first child: siblings are consecutive). The
- * state is (n, i, level) and the running closest hit, nothing else. */
+ * the children are tested in memory order from position i; a hit node child is entered at
+ * position 0, a hit leaf tested; when n's entries are exhausted the walk
+ * climbs to the parent and resumes after n's position there (n minus the
+ * parent's first child: siblings are consecutive). The
+ * state is (n, i) and the running closest hit, nothing else. */
 #include "accel/rtree/layout/rtc_layout.h"
 
 TT_HD int TT_VARIANT(tt_rtc_stackless)(const tt_rtc *TT_RESTRICT t, const tt_wray *r, int any,
@@ -22,7 +22,6 @@ TT_HD int TT_VARIANT(tt_rtc_stackless)(const tt_rtc *TT_RESTRICT t, const tt_wra
     TT_COUNT(stats, rays, 1);
     uint32_t n = 0, i = 0;
     const float *rec = tt_rtc_node(t, 0);
-    uint32_t level = tt_rtc_level(t, rec);
     TT_COUNT(stats, nodes, 1);
     TT_COUNT(stats, interior, 1);
     for (;;) {
@@ -34,7 +33,7 @@ TT_HD int TT_VARIANT(tt_rtc_stackless)(const tt_rtc *TT_RESTRICT t, const tt_wra
             if (!(tt_rt_box_test_at(r, &planes, rec + i, h.t) < h.t)) continue;
             const uint32_t ref = TT_LDG(child + i);
             TT_COUNT(stats, nodes, 1);
-            if (level == 1) {
+            if (tt_rtc_is_leaf(ref)) {
                 uint32_t nb;
                 const tt_tri_block *b = tt_rtc_leaf_blocks(t, ref, &nb);
                 TT_COUNT(stats, leaves, 1);
@@ -49,7 +48,6 @@ TT_HD int TT_VARIANT(tt_rtc_stackless)(const tt_rtc *TT_RESTRICT t, const tt_wra
             TT_COUNT(stats, interior, 1);
             n = ref;
             rec = tt_rtc_node(t, n);
-            level--;
             i = 0;
             down = 1;
             break;
@@ -61,7 +59,6 @@ TT_HD int TT_VARIANT(tt_rtc_stackless)(const tt_rtc *TT_RESTRICT t, const tt_wra
         rec = tt_rtc_node(t, p);
         i = n - TT_LDG(tt_rtc_child(t, rec)) + 1;
         n = p;
-        level++;
     }
     return tt_rtc_finish(any, &h, hit);
 }
