@@ -13,7 +13,8 @@
 #define RT_IO_LAYOUT_COMPLETE 1u
 #define RT_IO_LAYOUT_COMPACT 2u
 #define RT_IO_COMPLETE_VERSION 1u
-#define RT_IO_COMPACT_VERSION 1u
+/* 2: leaf references tagged by bit 31 (rtc_layout.h, issue #17) */
+#define RT_IO_COMPACT_VERSION 2u
 
 tt_status rtc_io_save(tt_context *ctx, const rtc_tree *t, tt_af_writer *w);
 /* Points t->c at the file's arrays (node_mem, block_mem stay NULL). */

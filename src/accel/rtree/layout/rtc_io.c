@@ -62,7 +62,9 @@ static tt_status check_node(tt_context *ctx, const tt_af_file *f, const tt_rtc *
             if (tt_rtc_level(c, crec) != level - 1 || tt_rtc_parent(c, crec) != n)
                 return tt_af_bad(ctx, f, "node %u: child %u's level or parent is wrong", n, ch);
         } else {
-            const uint32_t block = ref[i] >> 7;
+            if (!tt_rtc_is_leaf(ref[i]))
+                return tt_af_bad(ctx, f, "node %u: entry %u on level 1 is not a leaf", n, i);
+            const uint32_t block = tt_rtc_leaf_block(ref[i]);
             uint32_t nb;
             (void)tt_rtc_leaf_blocks(c, ref[i], &nb);
             if ((uint64_t)block + nb > c->blocks)
