@@ -115,6 +115,13 @@ tt_status kd_io_load(tt_accel *a, const tt_af_file *f)
         return tt_af_bad(ctx, f, "%llu nodes, %llu references, %llu boxes, or the parameters: "
                          "out of range", (unsigned long long)n_nodes, (unsigned long long)n_refs,
                          (unsigned long long)n_aug);
+    /* every scalar converted to an integer below must fit it (a hostile
+     * file's 1e300 would make the conversion undefined; found by fuzz_accel) */
+    static const int counts[] = {P_BUDGET_HIT, P_LOOSE, P_NODES_TOTAL, P_INTERIOR, P_LEAVES,
+                                 P_EMPTY_LEAVES, P_DEPTH_MAX};
+    for (size_t i = 0; i < sizeof counts / sizeof counts[0]; i++)
+        if (!(p[counts[i]] >= 0 && p[counts[i]] < 2147483647.0))
+            return tt_af_bad(ctx, f, "parameter %d is out of range", counts[i]);
     tt_kdtree *t = tt_calloc(ctx, 1, sizeof *t);
     if (!t) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "%s: out of memory", f->name);
     a->impl = t;

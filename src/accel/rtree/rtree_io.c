@@ -37,6 +37,10 @@ tt_status rtree_io_load(tt_accel *a, const tt_af_file *f)
     if (p[P_LAYOUT] != (double)o->layout || p[P_TRAVERSAL] != (double)o->traversal ||
         !(p[P_M_FILL] >= 2 && p[P_M_FILL] <= 8) || !(p[P_REAL_NODES] >= 0 && p[P_REAL_NODES] < 4e9))
         return tt_af_bad(a->ctx, f, "the parameters disagree with the options");
+    for (int k = 0; k < 6; k++) /* floats, converted below */
+        if (!(p[P_ROOT_BOX + k] >= -3.4e38 && p[P_ROOT_BOX + k] <= 3.4e38) &&
+            !(p[P_ROOT_BOX + k] == 1.0 / 0.0 || p[P_ROOT_BOX + k] == -1.0 / 0.0))
+            return tt_af_bad(a->ctx, f, "root box bound %d is out of range", k);
     const uint32_t want = o->layout == TT_RTREE_LAYOUT_COMPACT ? RT_IO_LAYOUT_COMPACT
                                                                : RT_IO_LAYOUT_COMPLETE;
     if (f->h->layout != want)
