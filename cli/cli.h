@@ -27,5 +27,8 @@ int cmd_render(int argc, char **argv);
 void cmd_render_help(FILE *out);
 int cmd_info(int argc, char **argv);
 void cmd_info_help(FILE *out);
+/* saved structures (cmd_build.c) */
+int cmd_build(int argc, char **argv);
+void cmd_build_help(FILE *out);
 
 #endif

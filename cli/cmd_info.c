@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "accel_args.h"
+#include "accel_file.h"
 #include "args.h"
 #include "common.h"
 #include "emit.h"
@@ -11,6 +12,7 @@ typedef struct info_args {
     const char *scene;
     int json;
     cli_accel_args accel;
+    const char *accel_file; /* --accel-file: a saved structure */
 } info_args;
 
 void cmd_info_help(FILE *out)
@@ -24,6 +26,8 @@ void cmd_info_help(FILE *out)
             "check fails.\n"
             "\n"
             "  --json                   one JSON object instead of `key: value` lines\n"
+            "  --accel-file FILE        the structure saved by `treetrace build` instead of\n"
+            "                           a build (its statistics as saved, checked here)\n"
             "\n");
     cli_accel_args_help(out);
     fprintf(out,
@@ -44,13 +48,17 @@ static int parse(int argc, char **argv, info_args *r)
         if (taken) continue;
         if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) return -1;
         if (strcmp(arg, "--json") == 0) r->json = 1;
-        else if (arg[0] == '-' && arg[1] != '\0')
+        else if (cli_is(&a, "--accel-file")) {
+            if (!(r->accel_file = cli_value(&a, "--accel-file"))) return CLI_USAGE;
+        } else if (arg[0] == '-' && arg[1] != '\0')
             return cli_usage_error("info", "unknown option '%s'", arg);
         else if (r->scene)
             return cli_usage_error("info", "more than one scene: '%s' and '%s'", r->scene, arg);
         else r->scene = arg;
     }
     if (!r->scene) return cli_usage_error("info", "no SCENE given");
+    int st = cli_accel_file_check("info", r->accel_file, &r->accel);
+    if (st != CLI_OK) return st;
     return cli_accel_args_finish("info", &r->accel);
 }
 
@@ -76,7 +84,8 @@ int cmd_info(int argc, char **argv)
     tt_scene *scene = NULL;
     tt_accel *accel = NULL;
     double load_s = 0.0;
-    st = cli_load_and_build("info", ctx, r.scene, &r.accel.build, &scene, &load_s, &accel);
+    st = cli_load_and_get_accel("info", ctx, r.scene, r.accel_file, &r.accel.build, &scene,
+                                &load_s, &accel);
     if (st != CLI_OK) {
         tt_context_destroy(ctx);
         return st;
@@ -100,8 +109,8 @@ int cmd_info(int argc, char **argv)
     emit_num(&e, "load_s", load_s);
     emit_str(&e, "accel", tt_accel_name(accel));
     emit_str(&e, "isa", tt_isa_name(tt_accel_isa(accel)));
-    cli_accel_args_emit(&e, &r.accel.build);
-    emit_num(&e, "build_s", tt_accel_build_seconds(accel));
+    cli_accel_file_emit(&e, accel, r.accel_file, &r.accel.build);
+    emit_num(&e, r.accel_file ? "accel_load_s" : "build_s", tt_accel_build_seconds(accel));
     emit_u64(&e, "accel_bytes", tt_accel_memory_bytes(accel));
     /* how tt_accel_update answers a scene edit (dynamic scenes) */
     emit_str(&e, "update", tt_accel_updates_in_place(accel) ? "in place" : "rebuild");

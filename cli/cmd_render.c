@@ -3,9 +3,13 @@
 #include <string.h>
 
 #include "accel_args.h"
+#include "accel_file.h"
 #include "args.h"
 #include "common.h"
 #include "emit.h"
+#include "mpi/mpi.h"
+#include "render_args.h"
+#include "render_frames.h"
 
 #define MAX_SIZE 16384
 
@@ -13,19 +17,7 @@ static const char *const heat_metrics[] = {"nodes", "interior", "leaves", "trian
 static const char *const devices[] = {"cpu", "gpu"};
 /* indexed by TT_PACKETS_AUTO, _OFF, _ON */
 static const char *const packet_modes[] = {"auto", "off", "on"};
-
-typedef struct render_args {
-    const char *scene, *view, *views;
-    float eye[3], look[3], up[3], light[3], fov;
-    int has_eye, has_look, has_up, has_light, has_fov;
-    uint32_t width, height;
-    int threads, repeat, stats, no_shadows, json;
-    const char *png, *hits, *heatmap;
-    int heat_metric, heat_metric_given;
-    int device; /* index into devices[] = tt_device */
-    int packets; /* index into packet_modes[] = TT_PACKETS_* */
-    cli_accel_args accel;
-} render_args;
+static const char *const mpi_splits[] = {"queue", "interleave"};
 
 void cmd_render_help(FILE *out)
 {
@@ -71,6 +63,20 @@ void cmd_render_help(FILE *out)
             "\n");
     cli_accel_args_help(out);
     fprintf(out,
+            "  --accel-file FILE        the structure saved by `treetrace build` (mapped, not\n"
+            "                           built); it fixes the structure and its options\n"
+            "\n"
+            "several frames, several processes:\n"
+            "  --frames N               N frames orbiting the look point about the up axis\n"
+            "                           (frame 0: the camera); files FILE_0000.png ...\n"
+            "  mpirun -np N treetrace render ...   (a build with MPI) every rank loads the\n"
+            "                           scene and builds or maps (--accel-file) the structure;\n"
+            "                           the frame's tiles are shared out, rank 0 gathers and\n"
+            "                           writes the same image and hit buffer as one process;\n"
+            "                           --frames N spreads whole frames over the ranks\n"
+            "  --mpi-split queue|interleave   tiles by a queue on rank 0 (default) or\n"
+            "                           every N-th tile per rank\n");
+    fprintf(out,
             "\n"
             "examples:\n"
             "  treetrace render --size 512x512 --png bunny.png\n"
@@ -112,6 +118,16 @@ static int parse_one(cli_args *a, render_args *r)
     else if (cli_is(a, "--view")) return path_value(a, "--view", &r->view);
     else if (cli_is(a, "--views")) return path_value(a, "--views", &r->views);
     else if (cli_is(a, "--png")) return path_value(a, "--png", &r->png);
+    else if (cli_is(a, "--accel-file")) return path_value(a, "--accel-file", &r->accel_file);
+    else if (cli_is(a, "--mpi-split")) {
+        r->mpi_split_given = 1;
+        return (v = cli_value(a, "--mpi-split"))
+                   ? cli_parse_choice(a->cmd, "--mpi-split", v, mpi_splits, 2, &r->mpi_split)
+                   : CLI_USAGE;
+    } else if (cli_is(a, "--frames")) {
+        return (v = cli_value(a, "--frames")) ? cli_parse_int(a->cmd, "--frames", v, 1, 100000, &r->frames)
+                                              : CLI_USAGE;
+    }
     else if (cli_is(a, "--hits")) return path_value(a, "--hits", &r->hits);
     else if (cli_is(a, "--heatmap")) return path_value(a, "--heatmap", &r->heatmap);
     else if (cli_is(a, "--eye")) return vec_value(a, "--eye", r->eye, &r->has_eye);
@@ -171,6 +187,10 @@ static int check_combination(render_args *r)
         return cli_usage_error(cmd, "--eye and --look are the same point");
     if (r->has_up && r->up[0] == 0.0f && r->up[1] == 0.0f && r->up[2] == 0.0f)
         return cli_usage_error(cmd, "option --up: the zero vector has no direction");
+    if (r->frames && (r->device != 0 || r->stats))
+        return cli_usage_error(cmd, "option --frames renders on the CPU without --stats");
+    int st = cli_accel_file_check(cmd, r->accel_file, &r->accel);
+    if (st != CLI_OK) return st;
     return cli_accel_args_finish(cmd, &r->accel);
 }
 
@@ -188,7 +208,7 @@ static int parse(int argc, char **argv, render_args *r)
     return check_combination(r);
 }
 
-static int make_camera(tt_context *ctx, const render_args *r, const tt_scene *scene,
+int render_make_camera(tt_context *ctx, const render_args *r, const tt_scene *scene,
                        tt_camera *cam)
 {
     if (r->view) {
@@ -214,7 +234,7 @@ static int make_camera(tt_context *ctx, const render_args *r, const tt_scene *sc
     return CLI_OK;
 }
 
-static int write_outputs(tt_context *ctx, const render_args *r, const tt_render_result *res)
+int render_write_outputs(tt_context *ctx, const render_args *r, const tt_render_result *res)
 {
     const tt_render_summary *s = tt_render_get_summary(res);
     size_t size;
@@ -261,9 +281,9 @@ static void emit_stats(cli_emit *e, const char *prefix, const tt_ray_stats *st)
     }
 }
 
-static void emit_results(const render_args *r, const char *scene_path, const tt_scene *scene,
+void render_emit_results(const render_args *r, const char *scene_path, const tt_scene *scene,
                          double load_s, const tt_accel *accel, const tt_camera *cam,
-                         const tt_render_result *res)
+                         const tt_render_result *res, render_emit_extra extra, void *user)
 {
     const tt_render_summary *s = tt_render_get_summary(res);
     cli_emit e;
@@ -274,8 +294,8 @@ static void emit_results(const render_args *r, const char *scene_path, const tt_
     emit_num(&e, "load_s", load_s);
     emit_str(&e, "accel", tt_accel_name(accel));
     emit_str(&e, "isa", tt_isa_name(tt_accel_isa(accel)));
-    cli_accel_args_emit(&e, &r->accel.build);
-    emit_num(&e, "build_s", tt_accel_build_seconds(accel));
+    cli_accel_file_emit(&e, accel, r->accel_file, &r->accel.build);
+    emit_num(&e, r->accel_file ? "accel_load_s" : "build_s", tt_accel_build_seconds(accel));
     emit_u64(&e, "accel_bytes", tt_accel_memory_bytes(accel));
     emit_str(&e, "view", r->view ? r->view : (r->has_eye ? "explicit" : "framed"));
     emit_vec3(&e, "eye", cam->eye);
@@ -329,6 +349,7 @@ static void emit_results(const render_args *r, const char *scene_path, const tt_
         emit_str(&e, "heatmap", r->heatmap);
         emit_str(&e, "heatmap_metric", heat_metrics[r->heat_metric]);
     }
+    if (extra) extra(&e, user);
     emit_num(&e, "peak_rss_mb", cli_peak_rss_mb());
     emit_end(&e);
 }
@@ -342,13 +363,15 @@ int cmd_render(int argc, char **argv)
         return CLI_OK;
     }
     if (st != CLI_OK) return st;
-
+    /* under mpirun (or with an MPI option) the MPI renderer (cli/mpi/) */
     char default_scene[4096];
     if (!r.scene) {
         if (cli_default_scene("render", default_scene, sizeof default_scene) != 0)
             return CLI_RUNTIME;
         r.scene = default_scene;
     }
+    if (cli_mpi_wanted(r.mpi_split_given)) return cli_mpi_render(&r);
+    if (r.frames > 0) return render_frames_single(&r);
     tt_context_options copt;
     tt_context_options_default(&copt);
     copt.threads = r.threads;
@@ -368,8 +391,9 @@ int cmd_render(int argc, char **argv)
     tt_render_result *res = NULL;
     double load_s = 0.0;
     tt_camera cam;
-    st = cli_load_and_build("render", ctx, r.scene, &r.accel.build, &scene, &load_s, &accel);
-    if (st == CLI_OK) st = make_camera(ctx, &r, scene, &cam);
+    st = cli_load_and_get_accel("render", ctx, r.scene, r.accel_file, &r.accel.build, &scene,
+                                &load_s, &accel);
+    if (st == CLI_OK) st = render_make_camera(ctx, &r, scene, &cam);
     if (st == CLI_OK) {
         tt_render_options ro;
         tt_render_options_default(&ro);
@@ -386,8 +410,8 @@ int cmd_render(int argc, char **argv)
         if (tt_render(ctx, scene, accel, &cam, &ro, &res) != TT_OK)
             st = cli_runtime_error("render", ctx);
     }
-    if (st == CLI_OK) st = write_outputs(ctx, &r, res);
-    if (st == CLI_OK) emit_results(&r, r.scene, scene, load_s, accel, &cam, res);
+    if (st == CLI_OK) st = render_write_outputs(ctx, &r, res);
+    if (st == CLI_OK) render_emit_results(&r, r.scene, scene, load_s, accel, &cam, res, NULL, NULL);
     tt_render_result_destroy(res);
     tt_accel_destroy(accel);
     tt_scene_destroy(scene);

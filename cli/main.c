@@ -11,6 +11,8 @@ static const cli_command commands[] = {
      cmd_render_help},
     {"info", "load a scene, build a structure, print its statistics and check it", cmd_info,
      cmd_info_help},
+    {"build", "build a structure and save it to a file (render --accel-file maps it)", cmd_build,
+     cmd_build_help},
     {"bench", "reproduce the papers' tables against Embree: results.csv, report.md, figures",
      tt_cli_bench, bench_print_help},
 };

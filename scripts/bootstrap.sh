@@ -5,7 +5,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(build-essential cmake pkg-config libpng-dev libomp-dev libembree-dev)
+# libxxhash-dev: the checksums of saved structures; libopenmpi-dev and
+# openmpi-bin: rendering across MPI ranks (optional at configure time, on
+# here because they are installed).
+packages=(build-essential cmake pkg-config libpng-dev libomp-dev libembree-dev libxxhash-dev
+          libopenmpi-dev openmpi-bin)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

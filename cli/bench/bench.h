@@ -88,6 +88,9 @@ typedef struct bench_options {
     int rounds;
     int ao_samples;
     int frames;       /* table D: frames a sequence (default 100; --frames)  */
+    /* Under mpirun (cli/mpi/mpi_bench.c): this rank runs the scenes whose
+     * index is rank mod ranks; rank 0 gathers and writes. ranks <= 1: all. */
+    int rank, ranks;
 } bench_options;
 
 /* Parses argv (argv[0] = "bench"). Returns 0 ok, 1 --help was printed (exit

@@ -6,6 +6,7 @@
 
 #include "bench/bench.h"
 #include "bench/bench_yard.h"
+#include "mpi/mpi.h"
 
 static int run_bench(const bench_options *o, FILE *err)
 {
@@ -73,16 +74,21 @@ static int run_bench(const bench_options *o, FILE *err)
         fprintf(err, "treetrace bench: out of memory\n");
         goto done_scenes;
     }
-    /* the papers' tables (renders); none with --only E */
-    if (m.count && bench_run_all(ctx, o, &scenes, &m, out, &res, err) != 0) goto done_matrix;
-    /* the engine table: batch calls against Embree's own loops, not renders */
     bench_yard yard;
     memset(&yard, 0, sizeof yard);
-    if ((o->tables & BENCH_E1) && bench_yard_run(ctx, o, &scenes, &yard, err) != 0) {
-        bench_results_free(&res);
-        bench_yard_free(&yard);
-        goto done_matrix;
+    /* the papers' tables (renders); none with --only E */
+    if (m.count && bench_run_all(ctx, o, &scenes, &m, out, &res, err) != 0) goto done_matrix;
+    if (o->ranks > 1) { /* MPI: rank 0 gathers every rank's runs and writes */
+        if (cli_mpi_bench_gather(&m, &res) != 0) goto done_results;
+        if (o->rank != 0) {
+            rc = 0;
+            goto done_results;
+        }
     }
+    /* the engine table: batch calls against Embree's own loops, not renders
+     * (under mpirun rank 0 runs it alone, after the others' scenes are in) */
+    if ((o->tables & BENCH_E1) && bench_yard_run(ctx, o, &scenes, &yard, err) != 0)
+        goto done_results;
     res.engine = (o->tables & BENCH_E1) ? &yard : NULL;
     if (!m.count) res.threads = yard.threads;
     res.total_s += yard.total_s;
@@ -116,6 +122,7 @@ static int run_bench(const bench_options *o, FILE *err)
         fputc('\n', err);
         rc = failed || engine_failed ? 1 : 0;
     }
+done_results:
     bench_yard_free(&yard);
     bench_results_free(&res);
 done_matrix:
@@ -133,6 +140,15 @@ int tt_cli_bench(int argc, char **argv)
     int rc = bench_parse_options(argc, argv, &o, stderr);
     if (rc == 1) return 0; /* --help */
     if (rc != 0) return 2;
+    if (cli_mpi_wanted(0)) { /* under mpirun: the matrix across ranks */
+        if (cli_mpi_bench_begin(&o.rank, &o.ranks) != 0) {
+            bench_options_free(&o);
+            return 2;
+        }
+        rc = cli_mpi_bench_end(run_bench(&o, stderr));
+        bench_options_free(&o);
+        return rc;
+    }
     rc = run_bench(&o, stderr);
     bench_options_free(&o);
     return rc;

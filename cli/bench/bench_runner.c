@@ -285,6 +285,12 @@ int bench_run_all(tt_context *ctx, const bench_options *o, const bench_scene_lis
     double t0 = bench_now();
     for (size_t si = 0; si < scenes->count; si++) {
         const bench_scene *s = &scenes->items[si];
+        if (o->ranks > 1 && (int)(si % (size_t)o->ranks) != o->rank) {
+            /* another MPI rank's scene (cli/mpi/mpi_bench.c gathers it) */
+            for (size_t i = 0; i < m->count; i++)
+                if (m->runs[i].scene == si) done[i] = 1;
+            continue;
+        }
         int any = 0;
         for (size_t i = 0; i < m->count; i++) any |= m->runs[i].scene == si && !done[i];
         if (!any) continue;

@@ -357,6 +357,34 @@ tt_status tt_occluded1_ex(const tt_accel *accel, const tt_ray *ray, int *occlude
 /* The start hint for rays from one point (e.g. all primary rays from the eye). */
 uint32_t tt_accel_locate(const tt_accel *accel, const float point[3]);
 
+/* -------------------------------------------------------- saved structures */
+
+/* A built structure saved to a file and loaded back instead of rebuilt
+ * (format: docs/accel-file.md). The file is tied to the scene's content (a
+ * hash of its triangles) and to this library's layouts (versions, byte
+ * order, SIMD block width); a checksum covers all of it. Loading maps the
+ * file read-only and uses the structure's arrays in place, so processes
+ * loading one file share its pages; a loaded structure traces bit for bit
+ * like the one saved. Every structure but embree can be saved (Embree's
+ * BVH lives inside Embree, which offers no way to save it):
+ * TT_ERR_UNSUPPORTED says so. scene_name (may be NULL) is stored for
+ * messages: a load for another scene names it. */
+tt_status tt_accel_save(const tt_accel *accel, const char *path, const char *scene_name);
+/* Loads a structure saved for `scene` (the same triangles, checked), its
+ * kernels chosen for `isa` (TT_ISA_AUTO: this CPU's best; the layout is
+ * the same for every ISA). A damaged, truncated, foreign or hostile file
+ * gives TT_ERR_PARSE / TT_ERR_UNSUPPORTED / TT_ERR_INVALID_ARGUMENT (another
+ * scene) / TT_ERR_IO with a message naming the file and what is wrong. The
+ * loaded structure reports its build options as saved;
+ * tt_accel_build_seconds is the time the load took. */
+tt_status tt_accel_load(tt_context *ctx, const tt_scene *scene, const char *path, tt_isa isa,
+                        tt_accel **out);
+/* 1 for a structure that came from tt_accel_load. */
+int tt_accel_loaded(const tt_accel *accel);
+/* The build options a structure was built with (for a loaded one: as
+ * saved), accel name included; *out's strings live as long as the accel. */
+tt_status tt_accel_options(const tt_accel *accel, tt_build_options *out);
+
 /* ----------------------------------------------------------------- batches */
 
 /* Batches trace n rays on the context's threads (tt_context_options.threads;

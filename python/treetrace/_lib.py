@@ -166,6 +166,10 @@ _SIGNATURES = {
     "tt_accel_check": (_st, [_p]),
     "tt_accel_statistics": (_st, [_p, STAT_FN, _p]),
     "tt_accel_locate": (ctypes.c_uint32, [_p, ctypes.c_float * 3]),
+    # saved structures
+    "tt_accel_save": (_st, [_p, ctypes.c_char_p, ctypes.c_char_p]),
+    "tt_accel_load": (_st, [_p, _p, ctypes.c_char_p, ctypes.c_int, ctypes.POINTER(_p)]),
+    "tt_accel_loaded": (ctypes.c_int, [_p]),
     "tt_intersect1_ex": (_st, [_p, ctypes.POINTER(Ray), ctypes.POINTER(Hit),
                                ctypes.POINTER(TraceArgs)]),
     "tt_occluded1_ex": (_st, [_p, ctypes.POINTER(Ray), ctypes.POINTER(ctypes.c_int),

@@ -398,6 +398,36 @@ class Accel(RayCasting):
         check(lib.tt_accel_statistics(self._h, fn, None), self.context._h)
         return out
 
+    # ------------------------------------------------------ saved structures
+
+    def save(self, path, scene_name=None):
+        """Saves the built structure to `path` (tt_accel_save; format in
+        docs/accel-file.md). UnsupportedError for embree, saying why."""
+        name = None if scene_name is None else str(scene_name).encode()
+        check(lib.tt_accel_save(self._h, os.fsencode(path), name), self.context._h)
+
+    @classmethod
+    def load(cls, scene, path, isa="auto"):
+        """The structure saved in `path` for `scene` (tt_accel_load): the file
+        is mapped, not rebuilt, and traces bit for bit like the one saved. A
+        damaged, foreign or hostile file raises with a message naming the
+        file and what is wrong (ParseError, UnsupportedError; another
+        scene's file: InvalidArgumentError)."""
+        self = cls.__new__(cls)
+        self.scene = scene
+        self.context = scene.context
+        h = ctypes.c_void_p()
+        check(lib.tt_accel_load(self.context._h, scene._h, os.fsencode(path),
+                                _choice("isa", isa, _ISA_NAMES), ctypes.byref(h)),
+              self.context._h)
+        self._h = h
+        return self
+
+    @property
+    def loaded(self):
+        """True for a structure that came from Accel.load."""
+        return bool(lib.tt_accel_loaded(self._h))
+
     def locate(self, point) -> int:
         """The start hint for rays from `point` (kd-tree; else INVALID_ID).
 

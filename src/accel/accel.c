@@ -3,6 +3,7 @@
 #include "accel/ray_check.h"
 #include "core/isa.h"
 #include "io/scene_guard.h"
+#include "io/accel_file.h"
 
 #include <string.h>
 
@@ -118,6 +119,10 @@ tt_status tt_accel_build(tt_context *ctx, const tt_scene *scene, const tt_build_
 void tt_accel_destroy(tt_accel *accel)
 {
     if (!accel) return;
+    if (accel->file) { /* a loaded structure (accel_io.c) */
+        tt_accel_unload(accel);
+        return;
+    }
     accel->vt->destroy(accel);
     tt_free(accel->ctx, accel);
 }
@@ -125,7 +130,12 @@ void tt_accel_destroy(tt_accel *accel)
 const char *tt_accel_name(const tt_accel *accel) { return accel ? accel->vt->name : ""; }
 double tt_accel_build_seconds(const tt_accel *accel) { return accel ? accel->build_s : 0.0; }
 tt_isa tt_accel_isa(const tt_accel *accel) { return accel ? accel->isa : TT_ISA_SCALAR; }
-size_t tt_accel_memory_bytes(const tt_accel *accel) { return accel ? accel->vt->memory(accel) : 0; }
+/* A loaded structure's arrays are the mapped file's (accel_io.c). */
+size_t tt_accel_memory_bytes(const tt_accel *accel)
+{
+    if (!accel) return 0;
+    return accel->file ? accel->file->size : accel->vt->memory(accel);
+}
 
 tt_status tt_accel_check(const tt_accel *accel)
 {

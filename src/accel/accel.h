@@ -39,6 +39,9 @@ typedef struct tt_packet_stats {
     uint64_t fallback_rays; /* rays finished as single rays (divergence)    */
 } tt_packet_stats;
 
+struct tt_af_writer;
+struct tt_af_file;
+
 typedef struct tt_accel_vtable {
     const char *name;
     unsigned caps;    /* TT_CAP_* bits */
@@ -88,6 +91,18 @@ typedef struct tt_accel_vtable {
     tt_status (*update)(tt_accel *accel, uint64_t since);
     /* 1 when `update` works in place for this structure's options. */
     int (*updates_in_place)(const tt_accel *accel);
+    /* Optional: saved structures (io/accel_file.h, docs/accel-file.md).
+     * save adds the built structure's sections to *w; NULL: it cannot be
+     * saved, and no_save says why. load fills accel->impl from a verified
+     * file (accel->options already read from it), using its arrays in place
+     * where the layout allows, and validates every index its traversals
+     * follow, so that a hostile file is refused, never traced; unload frees
+     * what load allocated (never the file's arrays) and replaces destroy
+     * for a loaded structure. */
+    tt_status (*save)(const tt_accel *accel, struct tt_af_writer *w);
+    tt_status (*load)(tt_accel *accel, const struct tt_af_file *f);
+    void (*unload)(tt_accel *accel);
+    const char *no_save;
 } tt_accel_vtable;
 
 struct tt_accel {
@@ -102,6 +117,7 @@ struct tt_accel {
      * its last update */
     uint64_t version;
     double update_s;
+    struct tt_af_file *file; /* the mapped file of a loaded structure, else NULL */
 };
 
 /* Every trace entry point (single rays, batches, tt_render) brackets its
@@ -121,6 +137,13 @@ extern const tt_accel_vtable tt_embree_vtable;
 
 /* Lookup by name; NULL if unknown. */
 const tt_accel_vtable *tt_accel_find(const char *name);
+
+/* Saved structures (accel_io.c): a loaded structure's teardown (unload, the
+ * file closed, the accel freed), and the loader over an opened file, which
+ * it takes over (closed on error too); the fuzzer and tests call it. */
+void tt_accel_unload(tt_accel *accel);
+tt_status tt_accel_load_opened(tt_context *ctx, const tt_scene *scene, struct tt_af_file *file,
+                               tt_isa isa, tt_accel **out);
 
 /* Helpers for implementations. */
 

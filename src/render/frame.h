@@ -51,4 +51,29 @@ void tt_frame_trace_shadow_stats(tt_frame *f, tt_ray_stats *sum);
 /* The shaded 8-bit RGB image from the frame's per-pixel results. */
 void tt_frame_shade(const tt_frame *f, int shadows, uint8_t *rgb);
 
+/* ---- A frame traced in parts (the MPI renderer, cli/mpi/): each process
+ * traces some tiles; one gathers every tile's per-pixel results into its
+ * frame and makes the result, byte for byte what tt_render gives (a tile's
+ * results never depend on which process or thread traced it). ---- */
+
+/* Validates as tt_render does (CPU only) and sets up f with its per-pixel
+ * arrays (pixel_stats too with keep_pixel_stats); tt_frame_close frees. */
+tt_status tt_frame_open(tt_context *ctx, const tt_scene *scene, const tt_accel *accel,
+                        const tt_camera *camera, const tt_render_options *o, tt_frame *f);
+void tt_frame_close(tt_context *ctx, tt_frame *f);
+uint32_t tt_frame_tile_count(const tt_frame *f);
+void tt_frame_tile_rect(const tt_frame *f, uint32_t tile, uint32_t *x0, uint32_t *y0,
+                        uint32_t *x1, uint32_t *y1);
+/* Traces tiles[0..n) on the frame's threads: with `counts` not NULL the
+ * counting variants first (adding into counts[0] primary, counts[1]
+ * shadow, and pixel_stats), then the fast primary and shadow passes, timed
+ * into times[0], times[1] (seconds, added). */
+void tt_frame_trace_tiles(tt_frame *f, const uint32_t *tiles, uint32_t n, int shadows,
+                          tt_ray_stats *counts, double *times);
+/* The result of a frame whose per-pixel arrays are complete (hits, image,
+ * pixel counts as options ask), its summary `s` with the counts filled
+ * in; f's arrays stay f's. */
+tt_status tt_frame_result(tt_context *ctx, const tt_frame *f, const tt_render_options *o,
+                          const tt_render_summary *s, tt_render_result **out);
+
 #endif

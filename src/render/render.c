@@ -337,3 +337,68 @@ fail:
     tt_render_result_destroy(r);
     return st;
 }
+
+/* ---- a frame traced in parts (frame.h; the MPI renderer) ---- */
+
+tt_status tt_frame_open(tt_context *ctx, const tt_scene *scene, const tt_accel *accel,
+                        const tt_camera *camera, const tt_render_options *o, tt_frame *f)
+{
+    memset(f, 0, sizeof *f);
+    tt_status st = validate(ctx, scene, accel, camera, o);
+    if (st != TT_OK) return st;
+    if (o->device != TT_DEVICE_CPU)
+        return tt_error(ctx, TT_ERR_UNSUPPORTED, "tt_render: a frame in parts traces on the CPU");
+    init_frame(ctx, scene, accel, camera, o, f);
+    tt_render_options arrays = *o; /* the frame's own arrays only */
+    arrays.keep_hits = arrays.keep_image = arrays.keep_pixel_stats = 0;
+    tt_render_result scratch;
+    memset(&scratch, 0, sizeof scratch);
+    st = allocate(ctx, &arrays, f, &scratch);
+    for (int m = 0; m < TT_HEAT_METRIC_COUNT && st == TT_OK && o->keep_pixel_stats; m++) {
+        f->pixel_stats[m] = tt_calloc(ctx, (size_t)o->width * o->height, sizeof(uint32_t));
+        if (!f->pixel_stats[m]) st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "tt_render: out of memory");
+    }
+    if (st != TT_OK) tt_frame_close(ctx, f);
+    return st;
+}
+
+void tt_frame_close(tt_context *ctx, tt_frame *f)
+{
+    free_frame(ctx, f);
+    for (int m = 0; m < TT_HEAT_METRIC_COUNT; m++) tt_free(ctx, f->pixel_stats[m]);
+    memset(f, 0, sizeof *f);
+}
+
+tt_status tt_frame_result(tt_context *ctx, const tt_frame *f, const tt_render_options *o,
+                          const tt_render_summary *s, tt_render_result **out)
+{
+    *out = NULL;
+    tt_render_result *r = tt_calloc(ctx, 1, sizeof *r);
+    if (!r) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "tt_render: out of memory");
+    r->ctx = ctx;
+    r->summary = *s;
+    const tt_render_options kept = *o;
+    size_t n = (size_t)o->width * o->height;
+    int ok = 1;
+    if (kept.keep_hits) {
+        r->hits = tt_alloc_array(ctx, n, 12);
+        r->hits_size = n * 12;
+        ok = r->hits != NULL;
+    }
+    if (kept.keep_image) ok = ok && (r->image = tt_alloc_array(ctx, n, 3)) != NULL;
+    for (int m = 0; m < TT_HEAT_METRIC_COUNT && kept.keep_pixel_stats; m++) {
+        r->pixel_stats[m] = tt_alloc_array(ctx, n, sizeof(uint32_t));
+        ok = ok && r->pixel_stats[m];
+        if (r->pixel_stats[m]) memcpy(r->pixel_stats[m], f->pixel_stats[m], n * sizeof(uint32_t));
+    }
+    if (!ok) {
+        tt_render_result_destroy(r);
+        return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "tt_render: out of memory for a %ux%u image",
+                        o->width, o->height);
+    }
+    count_results(f, o->shadows, &r->summary);
+    if (r->hits) encode_hits(f, o->shadows, r->hits);
+    if (r->image) tt_frame_shade(f, o->shadows, r->image);
+    *out = r;
+    return TT_OK;
+}

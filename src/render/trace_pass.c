@@ -94,3 +94,47 @@ void tt_frame_trace_shadow_stats(tt_frame *f, tt_ray_stats *sum)
 {
     trace_stats(f, shadow_tile_stats, sum);
 }
+
+/* ---- tiles of a frame traced in parts (frame.h; the MPI renderer) ---- */
+
+uint32_t tt_frame_tile_count(const tt_frame *f) { return f->tiles_x * f->tiles_y; }
+
+void tt_frame_tile_rect(const tt_frame *f, uint32_t tile, uint32_t *x0, uint32_t *y0,
+                        uint32_t *x1, uint32_t *y1)
+{
+    tile_bounds(f, tile, x0, y0, x1, y1);
+}
+
+static void trace_list_stats(tt_frame *f, const uint32_t *tiles, long n, stats_tile_fn fn,
+                             tt_ray_stats *sum)
+{
+#pragma omp parallel num_threads(f->threads)
+    {
+        tt_ray_stats local;
+        memset(&local, 0, sizeof local);
+#pragma omp for schedule(dynamic)
+        for (long i = 0; i < n; i++) fn(f, tiles[i], &local);
+#pragma omp critical(tt_render_stats_reduce)
+        tt_ray_stats_add(sum, &local);
+    }
+}
+
+void tt_frame_trace_tiles(tt_frame *f, const uint32_t *tiles, uint32_t count, int shadows,
+                          tt_ray_stats *counts, double *times)
+{
+    const long n = (long)count;
+    if (counts) {
+        trace_list_stats(f, tiles, n, primary_tile_stats, &counts[0]);
+        if (shadows) trace_list_stats(f, tiles, n, shadow_tile_stats, &counts[1]);
+    }
+    double t0 = tt_now();
+#pragma omp parallel for schedule(dynamic) num_threads(f->threads)
+    for (long i = 0; i < n; i++) primary_tile(f, tiles[i], NULL);
+    double t1 = tt_now();
+    if (shadows) {
+#pragma omp parallel for schedule(dynamic) num_threads(f->threads)
+        for (long i = 0; i < n; i++) shadow_tile(f, tiles[i], NULL);
+    }
+    times[0] += t1 - t0;
+    times[1] += tt_now() - t1;
+}

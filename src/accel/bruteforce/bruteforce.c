@@ -61,6 +61,24 @@ static size_t bf_memory(const tt_accel *a)
     return 0; /* it uses the scene's own triangle array */
 }
 
+/* Saved structures: bruteforce has no arrays of its own, so its file holds
+ * only the container's header (the scene's hash) and the options; saving
+ * it is allowed so that every structure round-trips the same way. */
+static tt_status bf_save(const tt_accel *a, struct tt_af_writer *w)
+{
+    (void)a;
+    (void)w;
+    return TT_OK;
+}
+
+static tt_status bf_load(tt_accel *a, const struct tt_af_file *f)
+{
+    (void)f;
+    return bf_build(a);
+}
+
+static void bf_unload(tt_accel *a) { (void)a; }
+
 const tt_accel_vtable tt_bruteforce_vtable = {
     .name = "bruteforce",
     .gpu = TT_ACCEL_GPU_NONE,
@@ -74,4 +92,7 @@ const tt_accel_vtable tt_bruteforce_vtable = {
     .check = bf_check,
     .statistics = bf_statistics,
     .memory = bf_memory,
+    .save = bf_save,
+    .load = bf_load,
+    .unload = bf_unload,
 };

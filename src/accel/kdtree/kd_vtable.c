@@ -1,6 +1,7 @@
 /* The kd-tree with sparse boxes (Havran & Bittner 2007) as a treetrace
  * structure: the dispatch table and its glue. */
 #include "accel/kdtree/kd_tree.h"
+#include "accel/kdtree/kd_io.h"
 
 #include "accel/kdtree/trace/kd_trace_cpu.h"
 
@@ -128,4 +129,8 @@ const tt_accel_vtable tt_kdtree_vtable = {
     .check = kd_check,
     .statistics = kd_statistics,
     .memory = kd_memory,
+    /* saved structures (kd_io.c) */
+    .save = kd_io_save,
+    .load = kd_io_load,
+    .unload = kd_io_unload,
 };

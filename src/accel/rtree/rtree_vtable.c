@@ -7,6 +7,7 @@
 #include "accel/rtree/rtree_box.h"
 #include "accel/rtree/build/rtree_bulk.h"
 #include "accel/rtree/update/rtree_dyn.h"
+#include "accel/rtree/rtree_io.h"
 
 #include <math.h>
 #include <string.h>
@@ -333,4 +334,8 @@ const tt_accel_vtable tt_rtree_vtable = {
     .memory = rtree_memory,
     .update = rtree_update,
     .updates_in_place = rtree_updates_in_place,
+    /* saved structures (rtree_io.c) */
+    .save = rtree_io_save,
+    .load = rtree_io_load,
+    .unload = rtree_io_unload,
 };
