@@ -59,3 +59,26 @@ def test_refusals(tmp_path):
     if "embree" in tt.accel_names():
         with pytest.raises(tt.Error, match="cannot be saved"):
             tt.Accel(scene, "embree").save(tmp_path / "e.tta")
+
+
+@pytest.mark.parametrize("accel", ["rtree", "kdtree"])
+def test_loaded_structure_follows_edits(tmp_path, accel):
+    """A loaded structure's arrays are a read-only mapping: an update after
+    edits rebuilds it (never writes the file's pages) and it then answers
+    for the edited scene like a fresh build."""
+    scene = tt.Scene.load(BUNNY)
+    path = tmp_path / "s.tta"
+    tt.Accel(scene, accel).save(path, "bunny.ply")
+    b = tt.Accel.load(scene, path)
+    assert b.loaded and not b.updates_in_place
+    pos = scene.vertices
+    pos[:, 1] += 0.01 * np.sin(50 * pos[:, 0])
+    scene.move_vertices(pos)
+    with pytest.raises(tt.StaleError):
+        b.intersect(*rays(scene))
+    b.update()
+    assert not b.loaded
+    b.check()
+    org, d = rays(scene)
+    hb, hf = b.intersect(org, d), tt.Accel(scene, "bruteforce").intersect(org, d)
+    assert np.array_equal(hb.prim, hf.prim) and np.array_equal(hb.t, hf.t)

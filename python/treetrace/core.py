@@ -402,7 +402,15 @@ class Accel(RayCasting):
 
     def save(self, path, scene_name=None):
         """Saves the built structure to `path` (tt_accel_save; format in
-        docs/accel-file.md). UnsupportedError for embree, saying why."""
+        docs/accel-file.md). UnsupportedError for embree, saying why.
+
+        >>> import os, tempfile, treetrace as tt
+        >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+        >>> path = os.path.join(tempfile.mkdtemp(), "tri.tta")
+        >>> tt.Accel(s, "rtree").save(path, "tri")
+        >>> os.path.getsize(path) > 0
+        True
+        """
         name = None if scene_name is None else str(scene_name).encode()
         check(lib.tt_accel_save(self._h, os.fsencode(path), name), self.context._h)
 
@@ -412,7 +420,16 @@ class Accel(RayCasting):
         is mapped, not rebuilt, and traces bit for bit like the one saved. A
         damaged, foreign or hostile file raises with a message naming the
         file and what is wrong (ParseError, UnsupportedError; another
-        scene's file: InvalidArgumentError)."""
+        scene's file: InvalidArgumentError).
+
+        >>> import os, tempfile, treetrace as tt
+        >>> s = tt.Scene.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+        >>> path = os.path.join(tempfile.mkdtemp(), "tri.tta")
+        >>> tt.Accel(s, "kdtree").save(path)
+        >>> a = tt.Accel.load(s, path)
+        >>> a.loaded, int(a.intersect([[0.2, 0.2, 1]], (0, 0, -1)).prim[0])
+        (True, 0)
+        """
         self = cls.__new__(cls)
         self.scene = scene
         self.context = scene.context

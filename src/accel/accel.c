@@ -233,13 +233,21 @@ static tt_status rebuild(tt_accel *a)
 {
     tt_accel fresh = *a;
     fresh.impl = NULL;
+    fresh.file = NULL;
     double t0 = tt_now();
     tt_status st = a->vt->build(&fresh);
     if (st != TT_OK) {
         if (fresh.impl) a->vt->destroy(&fresh);
         return st;
     }
-    a->vt->destroy(a);
+    if (a->file) { /* a loaded structure: its arrays were the mapped file's */
+        if (a->impl && a->vt->unload) a->vt->unload(a);
+        tt_af_close(a->file);
+        tt_free(a->ctx, a->file);
+        a->file = NULL;
+    } else {
+        a->vt->destroy(a);
+    }
     a->impl = fresh.impl;
     a->options = fresh.options;
     a->build_s = tt_now() - t0;
@@ -257,7 +265,9 @@ tt_status tt_accel_update(tt_accel *accel)
     tt_status st = TT_OK;
     if (accel->version != s->version) {
         double t0 = tt_now();
-        st = accel->vt->update ? accel->vt->update(accel, accel->version) : TT_ERR_UNSUPPORTED;
+        /* a loaded structure's arrays are a read-only mapping: rebuilt */
+        st = accel->vt->update && !accel->file ? accel->vt->update(accel, accel->version)
+                                               : TT_ERR_UNSUPPORTED;
         if (st == TT_ERR_UNSUPPORTED) st = rebuild(accel);
         if (st == TT_OK) {
             accel->version = s->version;
@@ -270,5 +280,6 @@ tt_status tt_accel_update(tt_accel *accel)
 
 int tt_accel_updates_in_place(const tt_accel *accel)
 {
-    return accel && accel->vt->updates_in_place && accel->vt->updates_in_place(accel);
+    return accel && !accel->file && accel->vt->updates_in_place &&
+           accel->vt->updates_in_place(accel);
 }

@@ -69,6 +69,7 @@ tt_status tt_accel_load_opened(tt_context *ctx, const tt_scene *scene, tt_af_fil
     a->vt = vt;
     a->ctx = ctx;
     a->scene = scene;
+    a->version = scene->version; /* its content hash matched this scene as it is now */
     a->file = file;
     a->isa = resolved;
     tt_build_options_default(&a->options);

@@ -58,6 +58,13 @@ static tt_status walk(tt_context *ctx, const tt_af_file *f, const tt_kdtree *t, 
             return tt_af_bad(ctx, f, "node %u is deeper than %d levels", n, TT_KD_MAX_DEPTH);
         const uint32_t bits = t->nodes[n].bits;
         if (tt_kd_is_leaf(bits)) {
+            /* a leaf root (a tiny scene) still has record 0, the scene box,
+             * without a slot (kd_check.c checks the same) */
+            if (n == 0) {
+                if (t->aug_count == 0 || t->aug[0].node != 0 || t->aug[0].parent != TT_KD_NO_PARENT)
+                    return tt_af_bad(ctx, f, "the root has no box");
+                aug_seen++;
+            }
             const uint64_t first = t->nodes[n].u.first, count = tt_kd_leaf_count(bits);
             if (first + count > t->ref_count)
                 return tt_af_bad(ctx, f, "leaf %u: references %llu..%llu of %zu", n,
