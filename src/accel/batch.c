@@ -215,7 +215,9 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                  * with nothing staged (its rays' tt_wray's would take 20
                  * KB of the cache the traversal wants) */
                 tt_dir_box db;
+                tt_end_box eb;
                 tt_dir_box_init(&db);
+                tt_end_box_init(&eb);
                 size_t seen = 0;
                 FOR_EACH_RAY(&p, c, i) {
                     /* about 32 rays of the item suffice to judge it, and
@@ -225,8 +227,10 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                     float org[3], dir[3], tmin, tmax;
                     load_ray(rays, i, org, dir, &tmin, &tmax);
                     tt_dir_box_add(&db, dir);
+                    tt_end_box_add(&eb, org, dir, tmax);
                 }
-                packet = seen >= TT_PACKET_MIN && tt_dir_box_coherent(&db);
+                packet = seen >= TT_PACKET_MIN &&
+                         (tt_dir_box_coherent(&db) || tt_end_box_converge(&eb));
             }
             if (packet) {
                 uint32_t np = 0;

@@ -18,7 +18,7 @@
 
 /* Coherent: the rays' normalised directions fit in a box no wider than 0.5
  * on every axis (about a 30 degree cone): a camera tile, or the shadow rays
- * of a tile towards one light. Ambient-occlusion and diffuse rays are not,
+ * of a tile towards a distant light (a near one: tt_end_box). Ambient-occlusion and diffuse rays are not,
  * and go ray by ray, so an incoherent batch pays only this pass over its
  * directions. The box is grown one direction at a time (a NaN direction,
  * from a ray the contract refuses, leaves it as it was). */
@@ -49,13 +49,58 @@ static inline int tt_dir_box_coherent(const tt_dir_box *b)
            b->hi[1] - b->lo[1] <= TT_PACKET_SPREAD && b->hi[2] - b->lo[2] <= TT_PACKET_SPREAD;
 }
 
+/* Shadow rays to one point light share their far end, not their direction
+ * (a tile's hits see the light at angles far apart): rays whose ends
+ * org + tmax dir bunch together, within a hundredth of the shortest ray's
+ * length, form a frustum with its apex at that end, which a packet's
+ * interval test culls as well as a cone. Any ray of infinite or NaN tmax,
+ * or a zero length, makes the test fail. */
+typedef struct tt_end_box {
+    float lo[3], hi[3];
+    float shortest;
+    int open;
+} tt_end_box;
+
+static inline void tt_end_box_init(tt_end_box *b)
+{
+    for (int k = 0; k < 3; k++) b->lo[k] = INFINITY, b->hi[k] = -INFINITY;
+    b->shortest = INFINITY;
+    b->open = 0;
+}
+static inline void tt_end_box_add(tt_end_box *b, const float *org, const float *dir, float tmax)
+{
+    if (!(tmax < INFINITY)) {
+        b->open = 1;
+        return;
+    }
+    const float len = tmax * sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+    b->shortest = len < b->shortest ? len : b->shortest;
+    for (int k = 0; k < 3; k++) {
+        const float e = org[k] + tmax * dir[k];
+        b->lo[k] = e < b->lo[k] ? e : b->lo[k];
+        b->hi[k] = e > b->hi[k] ? e : b->hi[k];
+    }
+}
+static inline int tt_end_box_converge(const tt_end_box *b)
+{
+    if (b->open || !(b->shortest > 0.0f) || !(b->shortest < INFINITY)) return 0;
+    for (int k = 0; k < 3; k++)
+        if (!(b->hi[k] - b->lo[k] <= 0.01f * b->shortest)) return 0;
+    return 1;
+}
+
 static inline int tt_packet_coherent(const tt_wray *w, uint32_t n)
 {
     if (n < TT_PACKET_MIN) return 0;
     tt_dir_box b;
+    tt_end_box e;
     tt_dir_box_init(&b);
-    for (uint32_t i = 0; i < n; i++) tt_dir_box_add(&b, w[i].dir);
-    return tt_dir_box_coherent(&b);
+    tt_end_box_init(&e);
+    for (uint32_t i = 0; i < n; i++) {
+        tt_dir_box_add(&b, w[i].dir);
+        tt_end_box_add(&e, w[i].org, w[i].dir, w[i].tmax);
+    }
+    return tt_dir_box_coherent(&b) || tt_end_box_converge(&e);
 }
 
 #endif
