@@ -229,8 +229,7 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                     tt_dir_box_add(&db, dir);
                     tt_end_box_add(&eb, org, dir, tmax);
                 }
-                packet = seen >= TT_PACKET_MIN &&
-                         (tt_dir_box_coherent(&db) || tt_end_box_converge(&eb));
+                packet = seen >= TT_PACKET_MIN && tt_packet_boxes_coherent(&db, &eb);
             }
             if (packet) {
                 uint32_t np = 0;

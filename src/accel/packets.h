@@ -18,9 +18,9 @@
 
 /* Coherent: the rays' normalised directions fit in a box no wider than 0.5
  * on every axis (about a 30 degree cone): a camera tile, or the shadow rays
- * of a tile towards a distant light (a near one: tt_end_box). Ambient-occlusion and diffuse rays are not,
- * and go ray by ray, so an incoherent batch pays only this pass over its
- * directions. The box is grown one direction at a time (a NaN direction,
+ * of a tile towards a distant light (a near one: tt_end_box). Ambient-
+ * occlusion and diffuse rays are not, and go ray by ray, so an incoherent
+ * batch pays only this pass over its directions. The box is grown one direction at a time (a NaN direction,
  * from a ray the contract refuses, leaves it as it was). */
 typedef struct tt_dir_box {
     float lo[3], hi[3];
@@ -89,6 +89,13 @@ static inline int tt_end_box_converge(const tt_end_box *b)
     return 1;
 }
 
+/* The one rule, over the two boxes of the same rays: within a cone, or
+ * ending at one point. */
+static inline int tt_packet_boxes_coherent(const tt_dir_box *d, const tt_end_box *e)
+{
+    return tt_dir_box_coherent(d) || tt_end_box_converge(e);
+}
+
 static inline int tt_packet_coherent(const tt_wray *w, uint32_t n)
 {
     if (n < TT_PACKET_MIN) return 0;
@@ -100,7 +107,7 @@ static inline int tt_packet_coherent(const tt_wray *w, uint32_t n)
         tt_dir_box_add(&b, w[i].dir);
         tt_end_box_add(&e, w[i].org, w[i].dir, w[i].tmax);
     }
-    return tt_dir_box_coherent(&b) || tt_end_box_converge(&e);
+    return tt_packet_boxes_coherent(&b, &e);
 }
 
 #endif
