@@ -152,3 +152,13 @@ int cli_parse_choice(const char *cmd, const char *opt, const char *s, const char
     }
     return cli_usage_error(cmd, "option %s: '%s' is not one of %s", opt, s, list);
 }
+
+int cli_scene_arg(const cli_args *a, const char **scene)
+{
+    const char *arg = a->argv[a->i];
+    if (arg[0] == '-' && arg[1] != '\0') return cli_usage_error(a->cmd, "unknown option '%s'", arg);
+    if (*scene)
+        return cli_usage_error(a->cmd, "more than one scene: '%s' and '%s'", *scene, arg);
+    *scene = arg;
+    return CLI_OK;
+}

@@ -29,6 +29,10 @@ int cli_is(const cli_args *a, const char *name);
  * after printing an error when there is none. */
 const char *cli_value(cli_args *a, const char *name);
 
+/* The current argument when no option took it: the one SCENE (into
+ * *scene), or an error for an unknown option or a second scene. */
+int cli_scene_arg(const cli_args *a, const char **scene);
+
 /* Integers: decimal, the whole string, in [lo, hi]. */
 int cli_parse_long(const char *cmd, const char *opt, const char *s, long lo, long hi, long *out);
 int cli_parse_int(const char *cmd, const char *opt, const char *s, int lo, int hi, int *out);

@@ -59,11 +59,8 @@ static int parse(int argc, char **argv, build_args *r)
             if (!v) return cli_usage_error("build", "option %s needs a FILE", arg);
             if (!*v) return cli_usage_error("build", "option %s: empty file name", arg);
             r->out = v;
-        } else if (arg[0] == '-' && arg[1] != '\0')
-            return cli_usage_error("build", "unknown option '%s'", arg);
-        else if (r->scene)
-            return cli_usage_error("build", "more than one scene: '%s' and '%s'", r->scene, arg);
-        else r->scene = arg;
+        } else if ((st = cli_scene_arg(&a, &r->scene)) != CLI_OK)
+            return st;
     }
     if (!r->scene) return cli_usage_error("build", "no SCENE given");
     if (!r->out) return cli_usage_error("build", "no output FILE given (-o FILE)");

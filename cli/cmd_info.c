@@ -50,11 +50,8 @@ static int parse(int argc, char **argv, info_args *r)
         if (strcmp(arg, "--json") == 0) r->json = 1;
         else if (cli_is(&a, "--accel-file")) {
             if (!(r->accel_file = cli_value(&a, "--accel-file"))) return CLI_USAGE;
-        } else if (arg[0] == '-' && arg[1] != '\0')
-            return cli_usage_error("info", "unknown option '%s'", arg);
-        else if (r->scene)
-            return cli_usage_error("info", "more than one scene: '%s' and '%s'", r->scene, arg);
-        else r->scene = arg;
+        } else if ((st = cli_scene_arg(&a, &r->scene)) != CLI_OK)
+            return st;
     }
     if (!r->scene) return cli_usage_error("info", "no SCENE given");
     int st = cli_accel_file_check("info", r->accel_file, &r->accel);

@@ -161,12 +161,8 @@ static int parse_one(cli_args *a, render_args *r)
         return (v = cli_value(a, "--heatmap-metric"))
                    ? cli_parse_choice(a->cmd, "--heatmap-metric", v, heat_metrics, 5, &r->heat_metric)
                    : CLI_USAGE;
-    } else if (arg[0] == '-' && arg[1] != '\0') {
-        return cli_usage_error(a->cmd, "unknown option '%s'", arg);
-    } else if (r->scene) {
-        return cli_usage_error(a->cmd, "more than one scene: '%s' and '%s'", r->scene, arg);
     } else {
-        r->scene = arg;
+        return cli_scene_arg(a, &r->scene);
     }
     return CLI_OK;
 }
