@@ -35,7 +35,8 @@ int rt_bulk_threads(tt_context *ctx);
 #define RT_BULK_PARALLEL_MIN (1u << 18)
 
 /* Sets b's options and allocates a pool of exactly `nodes` nodes, all in
- * use (headers zeroed, boxes zeroed). */
+ * use (headers zeroed; boxes and children uninitialised: the caller writes
+ * every node's entries 0 .. count - 1). */
 tt_status rt_bulk_pool(rt_builder *b, tt_context *ctx, const tt_rtree_options *opt,
                        const float *tri_box, uint32_t T, uint32_t nodes);
 
@@ -54,7 +55,8 @@ void rt_bulk_chunk(uint32_t n, int m, int M, uint32_t *start);
 void rt_bulk_make_level(rt_builder *b, int level, const uint32_t *items, const uint32_t *start,
                         uint32_t g, uint32_t first, int threads);
 
-/* Box centres of the triangles (3 floats each): the centroid of the box. */
+/* Box centres of the triangles (3 floats each, then one float 0 of padding):
+ * the centroid of the box. */
 tt_status rt_bulk_centres(tt_context *ctx, const float *tri_box, uint32_t T, float **out);
 
 /* Bottom-up packing: leaves from the triangle ids in `order` (all T, in

@@ -39,6 +39,10 @@
 #define BINS 32
 #define SWEEP_MAX 64      /* ranges up to this size are swept exactly */
 #define TASK_MIN 4096     /* subtrees of at least this many triangles are tasks */
+#define PART_TASK_MIN 8192 /* so are both sides of a cut of at least this many */
+/* Scenes of at least this many triangles are built on the context's threads
+ * (below, the tasks would not outweigh a parallel region's start). */
+#define SAH_PARALLEL_MIN 8192
 
 typedef struct sah {
     const float *tri_box;
@@ -124,6 +128,13 @@ static void cut_set_init(cut_set *cs, uint64_t n, int k, uint64_t lo, uint64_t h
     for (int k1 = 1; k1 < k; k1++) {
         uint64_t a, b;
         if (!cut_interval(n, k, k1, lo, hi, &a, &b)) continue;
+        /* both ends grow with k1: an interval that overlaps or touches the
+         * last one extends it (the nearest cut stays the same; mostly one
+         * interval is left, so each question is one clamp) */
+        if (cs->count > 0 && a <= cs->b[cs->count - 1] + 1) {
+            if (b > cs->b[cs->count - 1]) cs->b[cs->count - 1] = b;
+            continue;
+        }
         cs->a[cs->count] = a;
         cs->b[cs->count++] = b;
     }
@@ -195,6 +206,42 @@ static inline float area_of(const float b[6])
     return b[3] >= b[0] ? rt_box_area(b) : 0.0f;
 }
 
+/* A growing box for the sweeps. With SSE2 it is two registers (lanes 0..2
+ * of lo the minima, lanes 1..3 of hi the maxima, as in cut_binned), so that
+ * growing by a triangle box is two loads, a min and a max; the area is
+ * computed in rt_box_area's order, so every cost is bit-identical to the
+ * scalar code's. */
+#if defined(__SSE2__)
+typedef struct sbox {
+    __m128 lo, hi;
+} sbox;
+static inline void sbox_empty(sbox *b)
+{
+    b->lo = _mm_set1_ps(TT_INF);
+    b->hi = _mm_set1_ps(-TT_INF);
+}
+static inline void sbox_grow(sbox *b, const float *tb)
+{
+    b->lo = _mm_min_ps(b->lo, _mm_loadu_ps(tb));
+    b->hi = _mm_max_ps(b->hi, _mm_loadu_ps(tb + 2));
+}
+static inline float sbox_area(const sbox *b)
+{
+    const __m128 d = _mm_sub_ps(_mm_shuffle_ps(b->hi, b->hi, _MM_SHUFFLE(3, 3, 2, 1)), b->lo);
+    const __m128 p = _mm_mul_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(3, 0, 2, 1)));
+    const float xy = _mm_cvtss_f32(p), yz = _mm_cvtss_f32(_mm_shuffle_ps(p, p, 1)),
+                zx = _mm_cvtss_f32(_mm_movehl_ps(p, p));
+    return 2.0f * (xy + yz + zx);
+}
+#else
+typedef struct sbox {
+    float b[6];
+} sbox;
+static inline void sbox_empty(sbox *b) { rt_box_empty(b->b); }
+static inline void sbox_grow(sbox *b, const float *tb) { rt_box_grow(b->b, tb); }
+static inline float sbox_area(const sbox *b) { return rt_box_area(b->b); }
+#endif
+
 /* ----------------------------------------------------------------- cuts */
 
 /* (centre, id) as one integer: the float's order in the high half, the id
@@ -239,17 +286,17 @@ static void cut_sweep(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo,
         uint64_t *a = sorted[axis];
         for (uint32_t i = 0; i < n; i++) a[i] = item_key(s->cen[3 * (size_t)v[i] + axis], v[i]);
         sort_keys(a, n);
-        float b[6];
-        rt_box_empty(b);
+        sbox b;
+        sbox_empty(&b);
         for (uint32_t i = n; i-- > 1;) {
-            rt_box_grow(b, s->tri_box + 6 * (size_t)(uint32_t)a[i]);
-            right[i] = rt_box_area(b);
+            sbox_grow(&b, s->tri_box + 6 * (size_t)(uint32_t)a[i]);
+            right[i] = sbox_area(&b);
         }
-        rt_box_empty(b);
+        sbox_empty(&b);
         for (uint32_t c = 1; c < n; c++) {
-            rt_box_grow(b, s->tri_box + 6 * (size_t)(uint32_t)a[c - 1]);
+            sbox_grow(&b, s->tri_box + 6 * (size_t)(uint32_t)a[c - 1]);
             if (!ok[c]) continue;
-            float cost = rt_box_area(b) * (float)c + right[c] * (float)(n - c);
+            float cost = sbox_area(&b) * (float)c + right[c] * (float)(n - c);
             if (cost < best) best = cost, best_axis = axis, best_c = c;
         }
     }
@@ -301,11 +348,21 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
             blo[a][j] = _mm_set1_ps(TT_INF);
             bhi[a][j] = _mm_set1_ps(-TT_INF);
         }
+    /* the three bins of a centre at once: bin_of's arithmetic, clamped in
+     * float before the conversion (the same bins: the products are the
+     * same, and the clamp only moves values whose bin is clamped anyway);
+     * the centres are padded by a float, so the 4-float load is safe */
+    const __m128 clo4 = _mm_setr_ps(cb[0], cb[1], cb[2], 0.0f);
+    const __m128 sc4 = _mm_setr_ps(scale[0], scale[1], scale[2], 0.0f);
+    const __m128 zero4 = _mm_setzero_ps(), top4 = _mm_set1_ps((float)(BINS - 1));
     for (uint32_t i = 0; i < n; i++) {
         const float *c = s->cen + 3 * (size_t)v[i], *tb = s->tri_box + 6 * (size_t)v[i];
         const __m128 lo4 = _mm_loadu_ps(tb), hi4 = _mm_loadu_ps(tb + 2);
+        const __m128 x = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(c), clo4), sc4);
+        int jj[4];
+        _mm_storeu_si128((__m128i *)jj, _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(x, zero4), top4)));
         for (int a = 0; a < 3; a++) {
-            const int j = bin_of(c[a], cb[a], scale[a]);
+            const int j = jj[a];
             cnt[a][j]++;
             blo[a][j] = _mm_min_ps(blo[a][j], lo4);
             bhi[a][j] = _mm_max_ps(bhi[a][j], hi4);
@@ -377,9 +434,42 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
         /* the cut is a bin boundary: one partitioning pass, which also
          * bounds both sides' centres */
         const int a = best_axis;
+        uint32_t i = 0, j = n;
+#if defined(__SSE2__)
+        /* the bin as the binning loop computed it, the centres' bounds in
+         * registers */
+        __m128 llo = _mm_set1_ps(TT_INF), lhi = _mm_set1_ps(-TT_INF);
+        __m128 rlo = llo, rhi = lhi;
+        while (i < j) {
+            const __m128 c4 = _mm_loadu_ps(s->cen + 3 * (size_t)v[i]);
+            const __m128 x = _mm_mul_ps(_mm_sub_ps(c4, clo4), sc4);
+            int jj[4];
+            _mm_storeu_si128((__m128i *)jj,
+                             _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(x, zero4), top4)));
+            if (jj[a] < best_bin) {
+                llo = _mm_min_ps(llo, c4);
+                lhi = _mm_max_ps(lhi, c4);
+                i++;
+            } else {
+                rlo = _mm_min_ps(rlo, c4);
+                rhi = _mm_max_ps(rhi, c4);
+                uint32_t t = v[i];
+                v[i] = v[--j];
+                v[j] = t;
+            }
+        }
+        float t4[4];
+        _mm_storeu_ps(t4, llo);
+        memcpy(cbl, t4, 3 * sizeof(float));
+        _mm_storeu_ps(t4, lhi);
+        memcpy(cbl + 3, t4, 3 * sizeof(float));
+        _mm_storeu_ps(t4, rlo);
+        memcpy(cbr, t4, 3 * sizeof(float));
+        _mm_storeu_ps(t4, rhi);
+        memcpy(cbr + 3, t4, 3 * sizeof(float));
+#else
         rt_box_empty(cbl);
         rt_box_empty(cbr);
-        uint32_t i = 0, j = n;
         while (i < j) {
             const float *c = s->cen + 3 * (size_t)v[i];
             if (bin_of(c[a], cb[a], scale[a]) < best_bin) {
@@ -398,6 +488,7 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
                 v[j] = t;
             }
         }
+#endif
     } else {
         if (best_axis < 0) { /* all centres equal: any cut, by id */
             best_axis = 0;
@@ -420,14 +511,15 @@ typedef struct group {
 } group;
 
 /* Cuts v[0 .. n) (centre bounds cb, needed when n > SWEEP_MAX) into k groups
- * of lo..hi triangles, appended to out[*g]. */
+ * of lo..hi triangles, written to out[g .. g + k). The two sides of a large
+ * cut are cut as tasks: each writes its own groups, so the result does not
+ * depend on which thread cuts which. */
 static void partition(const sah *s, uint32_t *v, uint32_t off, uint32_t n, int k, uint64_t lo,
-                      uint64_t hi, const float cb[6], group *out, int *g)
+                      uint64_t hi, const float cb[6], group *out, int g)
 {
     if (k == 1) {
-        out[*g].start = off;
-        memcpy(out[*g].cb, cb, sizeof out[*g].cb);
-        (*g)++;
+        out[g].start = off;
+        memcpy(out[g].cb, cb, sizeof out[g].cb);
         return;
     }
     uint32_t c;
@@ -440,8 +532,15 @@ static void partition(const sah *s, uint32_t *v, uint32_t off, uint32_t n, int k
     } else {
         cut_binned(s, v, n, k, lo, hi, cb, &c, &k1, cbl, cbr);
     }
-    partition(s, v, off, c, k1, lo, hi, cbl, out, g);
-    partition(s, v + c, off + c, n - c, k - k1, lo, hi, cbr, out, g);
+    if (n >= PART_TASK_MIN) {
+#pragma omp task firstprivate(c, k1, cbl)
+        partition(s, v, off, c, k1, lo, hi, cbl, out, g);
+        partition(s, v + c, off + c, n - c, k - k1, lo, hi, cbr, out, g + k1);
+#pragma omp taskwait
+    } else {
+        partition(s, v, off, c, k1, lo, hi, cbl, out, g);
+        partition(s, v + c, off + c, n - c, k - k1, lo, hi, cbr, out, g + k1);
+    }
 }
 
 /* ------------------------------------------------------ small subtrees */
@@ -476,17 +575,17 @@ static void small_cut(small *sm, uint32_t a, uint32_t n, int k, uint64_t lo, uin
     uint32_t best_c = 0;
     for (int axis = 0; axis < 3; axis++) {
         const uint8_t *l = sm->list[axis] + a;
-        float b[6];
-        rt_box_empty(b);
+        sbox b;
+        sbox_empty(&b);
         for (uint32_t i = n; i-- > 1;) {
-            rt_box_grow(b, s->tri_box + 6 * (size_t)sm->id[l[i]]);
-            right[i] = rt_box_area(b);
+            sbox_grow(&b, s->tri_box + 6 * (size_t)sm->id[l[i]]);
+            right[i] = sbox_area(&b);
         }
-        rt_box_empty(b);
+        sbox_empty(&b);
         for (uint32_t c = 1; c < n; c++) {
-            rt_box_grow(b, s->tri_box + 6 * (size_t)sm->id[l[c - 1]]);
+            sbox_grow(&b, s->tri_box + 6 * (size_t)sm->id[l[c - 1]]);
             if (!ok[c]) continue;
-            float cost = rt_box_area(b) * (float)c + right[c] * (float)(n - c);
+            float cost = sbox_area(&b) * (float)c + right[c] * (float)(n - c);
             if (cost < best) best = cost, best_axis = axis, best_c = c;
         }
     }
@@ -572,8 +671,8 @@ static void build_node(const sah *s, uint32_t first, uint32_t n, int level, cons
     if (kmax > (uint64_t)s->M) kmax = (uint64_t)s->M;
     const int k = (int)kmax;
     group grp[TT_RT_MAX_M + 1];
-    int g = 0;
-    partition(s, s->idx + first, first, n, k, lo, hi, cb, grp, &g);
+    const int g = k;
+    partition(s, s->idx + first, first, n, k, lo, hi, cb, grp, 0);
     grp[g].start = first + n;
     for (int j = 1; j < g; j++) s->mark[grp[j].start] = (uint8_t)level; /* level - 1, plus one */
     if (level == 1) return;
@@ -623,7 +722,7 @@ tt_status rt_bulk_sah(rt_builder *b, tt_context *ctx, const tt_rtree_options *op
         if (L > 0) {
             float cb[6];
             centre_bounds(&s, s.idx, T, cb);
-#pragma omp parallel num_threads(threads) if (T >= RT_BULK_PARALLEL_MIN / 2)
+#pragma omp parallel num_threads(threads) if (T >= SAH_PARALLEL_MIN)
 #pragma omp single
             build_node(&s, 0, T, L, cb);
         }
