@@ -40,9 +40,12 @@
 #define SWEEP_MAX 64      /* ranges up to this size are swept exactly */
 #define TASK_MIN 4096     /* subtrees of at least this many triangles are tasks */
 #define PART_TASK_MIN 8192 /* so are both sides of a cut of at least this many */
-/* Scenes of at least this many triangles are built on the context's threads
- * (below, the tasks would not outweigh a parallel region's start). */
-#define SAH_PARALLEL_MIN 8192
+/* Scenes of at least this many triangles are built on the context's threads.
+ * Measured on the shared 2-core machine under load (notes/build.md): with
+ * the region from 8192 on, bunny and Sibenik built 1.5-2.3x slower on two
+ * threads than on one (the other thread, descheduled, holds a task the
+ * first then waits for), so smaller scenes stay on one thread. */
+#define SAH_PARALLEL_MIN (RT_BULK_PARALLEL_MIN / 2)
 
 typedef struct sah {
     const float *tri_box;
@@ -233,6 +236,14 @@ static inline float sbox_area(const sbox *b)
                 zx = _mm_cvtss_f32(_mm_movehl_ps(p, p));
     return 2.0f * (xy + yz + zx);
 }
+static inline void sbox_store(const sbox *b, float out[6])
+{
+    float l[4], h[4];
+    _mm_storeu_ps(l, b->lo);
+    _mm_storeu_ps(h, b->hi);
+    const float b6[6] = {l[0], l[1], l[2], h[1], h[2], h[3]};
+    memcpy(out, b6, sizeof b6);
+}
 #else
 typedef struct sbox {
     float b[6];
@@ -240,6 +251,7 @@ typedef struct sbox {
 static inline void sbox_empty(sbox *b) { rt_box_empty(b->b); }
 static inline void sbox_grow(sbox *b, const float *tb) { rt_box_grow(b->b, tb); }
 static inline float sbox_area(const sbox *b) { return rt_box_area(b->b); }
+static inline void sbox_store(const sbox *b, float out[6]) { memcpy(out, b->b, sizeof b->b); }
 #endif
 
 /* ----------------------------------------------------------------- cuts */
@@ -688,44 +700,68 @@ static void build_node(const sah *s, uint32_t first, uint32_t n, int level, cons
     }
 }
 
-tt_status rt_bulk_sah(rt_builder *b, tt_context *ctx, const tt_rtree_options *opt,
-                      const float *tri_box, uint32_t T)
+/* Runs the SAH loader: *s gets the triangle order (idx) and the node marks
+ * (mark), and the root level; s->cen, s->idx, s->mark are allocated here
+ * (sah_free). */
+static tt_status sah_run(sah *s, tt_context *ctx, const tt_rtree_options *opt,
+                         const float *tri_box, uint32_t T)
 {
-    sah s;
-    memset(&s, 0, sizeof s);
-    s.tri_box = tri_box;
-    s.m = opt->m;
-    s.M = opt->M;
+    memset(s, 0, sizeof *s);
+    s->tri_box = tri_box;
+    s->m = opt->m;
+    s->M = opt->M;
     /* capacities by level; the root level: smallest L with M^(L+1) >= T */
     int L = 0;
     for (int l = 0; l < TT_RT_BUILD_LEVELS; l++) {
-        s.lo[l] = l == 0 ? (uint64_t)opt->m : s.lo[l - 1] * (uint64_t)opt->m;
-        s.hi[l] = l == 0 ? (uint64_t)opt->M : s.hi[l - 1] * (uint64_t)opt->M;
-        if (s.lo[l] > ((uint64_t)1 << 40)) s.lo[l] = (uint64_t)1 << 40; /* beyond any T */
-        if (s.hi[l] > ((uint64_t)1 << 40)) s.hi[l] = (uint64_t)1 << 40;
+        s->lo[l] = l == 0 ? (uint64_t)opt->m : s->lo[l - 1] * (uint64_t)opt->m;
+        s->hi[l] = l == 0 ? (uint64_t)opt->M : s->hi[l - 1] * (uint64_t)opt->M;
+        if (s->lo[l] > ((uint64_t)1 << 40)) s->lo[l] = (uint64_t)1 << 40; /* beyond any T */
+        if (s->hi[l] > ((uint64_t)1 << 40)) s->hi[l] = (uint64_t)1 << 40;
     }
-    while (s.hi[L] < T) L++;
-    s.root_level = L;
+    while (s->hi[L] < T) L++;
+    s->root_level = L;
     const int threads = rt_bulk_threads(ctx);
     const size_t n = T ? T : 1;
     float *cen = NULL;
     tt_status st = rt_bulk_centres(ctx, tri_box, T, &cen);
-    s.cen = cen;
-    s.idx = tt_alloc_array(ctx, n, sizeof *s.idx);
-    s.mark = tt_calloc(ctx, n, 1);
-    uint32_t *start = tt_alloc_array(ctx, n + 1, sizeof *start);
-    if (st == TT_OK && (!s.idx || !s.mark || !start))
+    s->cen = cen;
+    s->idx = tt_alloc_array(ctx, n, sizeof *s->idx);
+    s->mark = tt_calloc(ctx, n, 1);
+    if (st == TT_OK && (!s->idx || !s->mark))
         st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree: out of memory (SAH build, %u triangles)", T);
-    if (st == TT_OK) {
-        for (uint32_t i = 0; i < T; i++) s.idx[i] = i;
-        if (T > 0) s.mark[0] = (uint8_t)(L + 1);
-        if (L > 0) {
-            float cb[6];
-            centre_bounds(&s, s.idx, T, cb);
+    if (st != TT_OK) return st;
+    for (uint32_t i = 0; i < T; i++) s->idx[i] = i;
+    if (T > 0) s->mark[0] = (uint8_t)(L + 1);
+    if (L > 0) {
+        float cb[6];
+        centre_bounds(s, s->idx, T, cb);
 #pragma omp parallel num_threads(threads) if (T >= SAH_PARALLEL_MIN)
 #pragma omp single
-            build_node(&s, 0, T, L, cb);
-        }
+        build_node(s, 0, T, L, cb);
+    }
+    return TT_OK;
+}
+
+static void sah_free(tt_context *ctx, sah *s)
+{
+    tt_free(ctx, (void *)s->cen);
+    tt_free(ctx, s->idx);
+    tt_free(ctx, s->mark);
+    s->cen = NULL;
+    s->idx = NULL;
+    s->mark = NULL;
+}
+
+tt_status rt_bulk_sah(rt_builder *b, tt_context *ctx, const tt_rtree_options *opt,
+                      const float *tri_box, uint32_t T)
+{
+    sah s;
+    tt_status st = sah_run(&s, ctx, opt, tri_box, T);
+    const int L = s.root_level, threads = rt_bulk_threads(ctx);
+    uint32_t *start = st == TT_OK ? tt_alloc_array(ctx, (size_t)T + 1, sizeof *start) : NULL;
+    if (st == TT_OK && !start)
+        st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree: out of memory (SAH build, %u triangles)", T);
+    if (st == TT_OK) {
         /* nodes per level from the marks: a level-l node starts where
          * mark > l */
         uint32_t count[TT_RT_BUILD_LEVELS] = {0};
@@ -763,9 +799,97 @@ tt_status rt_bulk_sah(rt_builder *b, tt_context *ctx, const tt_rtree_options *op
             }
         }
     }
-    tt_free(ctx, cen);
-    tt_free(ctx, s.idx);
-    tt_free(ctx, s.mark);
+    sah_free(ctx, &s);
     tt_free(ctx, start);
     return st;
+}
+
+void rt_bulk_levels_free(tt_context *ctx, rt_bulk_levels *lv)
+{
+    tt_free(ctx, lv->order_mem);
+    tt_free(ctx, lv->first_mem);
+    tt_free(ctx, lv->box_mem);
+    memset(lv, 0, sizeof *lv);
+}
+
+tt_status rt_bulk_sah_levels(rt_bulk_levels *lv, tt_context *ctx, const tt_rtree_options *opt,
+                             const float *tri_box, uint32_t T)
+{
+    memset(lv, 0, sizeof *lv);
+    sah s;
+    tt_status st = sah_run(&s, ctx, opt, tri_box, T);
+    const int L = s.root_level;
+    if (st == TT_OK && (T == 0 || L == 0))
+        st = tt_error(ctx, TT_ERR_INVALID_ARGUMENT,
+                      "rtree: the level form needs a root above the leaves (%u triangles)", T);
+    if (st != TT_OK) {
+        sah_free(ctx, &s);
+        return st;
+    }
+    /* nodes per level: a level-l node starts where mark > l */
+    uint64_t total = 0;
+    for (uint32_t p = 0; p < T; p++)
+        for (int l = 0; l < s.mark[p]; l++) lv->count[l]++;
+    for (int l = 0; l <= L; l++) total += lv->count[l];
+    lv->first_mem = tt_alloc_array(ctx, total + (uint64_t)L + 1, sizeof(uint32_t));
+    lv->box_mem = tt_alloc_array(ctx, total, 6 * sizeof(float));
+    uint32_t *pos = tt_alloc_array(ctx, lv->count[0] + 1, sizeof *pos);
+    if (!lv->first_mem || !lv->box_mem || !pos) {
+        sah_free(ctx, &s);
+        tt_free(ctx, pos);
+        rt_bulk_levels_free(ctx, lv);
+        return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree: out of memory (SAH levels, %u triangles)",
+                        T);
+    }
+    lv->height = (uint32_t)L;
+    lv->M = (uint32_t)opt->M;
+    lv->triangles = T;
+    lv->order = lv->order_mem = s.idx;
+    s.idx = NULL;
+    {
+        uint32_t *f = lv->first_mem;
+        float *bx = lv->box_mem;
+        for (int l = 0; l <= L; l++) {
+            lv->first[l] = f;
+            lv->box[l] = bx;
+            f += lv->count[l] + 1;
+            bx += 6 * (size_t)lv->count[l];
+        }
+    }
+    /* leaves: their triangle ranges and boxes */
+    uint32_t g = 0;
+    for (uint32_t p = 0; p < T; p++)
+        if (s.mark[p] > 0) lv->first[0][g++] = p;
+    lv->first[0][g] = T;
+    for (uint32_t j = 0; j < g; j++) {
+        sbox b;
+        sbox_empty(&b);
+        for (uint32_t p = lv->first[0][j]; p < lv->first[0][j + 1]; p++)
+            sbox_grow(&b, tri_box + 6 * (size_t)lv->order[p]);
+        sbox_store(&b, lv->box[0] + 6 * (size_t)j);
+        pos[j] = lv->first[0][j];
+    }
+    /* level l: groups the level l-1 nodes whose start (pos) has mark > l;
+     * pos is rewritten in place to the level's own starts */
+    for (int l = 1; l <= L; l++) {
+        const uint32_t below = lv->count[l - 1];
+        uint32_t gg = 0;
+        for (uint32_t j = 0; j < below; j++)
+            if (s.mark[pos[j]] > l) {
+                lv->first[l][gg] = j;
+                pos[gg++] = pos[j];
+            }
+        lv->first[l][gg] = below;
+        const float *cb = lv->box[l - 1];
+        for (uint32_t k = 0; k < gg; k++) {
+            sbox b;
+            sbox_empty(&b);
+            for (uint32_t j = lv->first[l][k]; j < lv->first[l][k + 1]; j++)
+                sbox_grow(&b, cb + 6 * (size_t)j);
+            sbox_store(&b, lv->box[l] + 6 * (size_t)k);
+        }
+    }
+    tt_free(ctx, pos);
+    sah_free(ctx, &s);
+    return TT_OK;
 }
