@@ -1,6 +1,8 @@
 /* Packing the builder's pointer tree (any builder: insertion or bulk
  * loading, they all fill rt_builder) into the compact layout
- * (rtc_layout.h). Boxes are copied verbatim from the pointer tree, never
+ * (rtc_layout.h); or the SAH loader's level form (rt_bulk_levels), which
+ * the default build packs without making the pointer tree, by the same
+ * walk into the same bytes. Boxes are copied verbatim from the pointer tree, never
  * recomputed, so the check (rtc_check.c) also verifies that the builder
  * kept every node box the exact union of its entries. */
 #include <math.h>
