@@ -333,11 +333,13 @@ static void centre_bounds(const sah *s, const uint32_t *v, uint32_t n, float cb[
     }
 }
 
+#if !defined(__SSE2__) /* the SSE2 code computes three at once, the same way */
 static inline int bin_of(float c, float lo, float scale)
 {
     int j = (int)((c - lo) * scale);
     return j < 0 ? 0 : j >= BINS ? BINS - 1 : j;
 }
+#endif
 
 /* The same for large ranges, by binning the centres (whose bounds are cb);
  * also returns the centre bounds of both sides. */
@@ -360,10 +362,11 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
             blo[a][j] = _mm_set1_ps(TT_INF);
             bhi[a][j] = _mm_set1_ps(-TT_INF);
         }
-    /* the three bins of a centre at once: bin_of's arithmetic, clamped in
-     * float before the conversion (the same bins: the products are the
-     * same, and the clamp only moves values whose bin is clamped anyway);
-     * the centres are padded by a float, so the 4-float load is safe */
+    /* the three bins of a centre at once: the scalar code's bin_of
+     * arithmetic, clamped in float before the conversion (the same bins:
+     * the products are the same, and the clamp only moves values whose bin
+     * is clamped anyway); the centres are padded by a float, so the
+     * 4-float load is safe */
     const __m128 clo4 = _mm_setr_ps(cb[0], cb[1], cb[2], 0.0f);
     const __m128 sc4 = _mm_setr_ps(scale[0], scale[1], scale[2], 0.0f);
     const __m128 zero4 = _mm_setzero_ps(), top4 = _mm_set1_ps((float)(BINS - 1));
