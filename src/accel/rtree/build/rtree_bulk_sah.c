@@ -204,10 +204,12 @@ static void select_first(const sah *s, int axis, uint32_t *v, uint32_t n, uint32
     }
 }
 
+#if !defined(__SSE2__) /* the SSE2 code has sbox_nonempty and sbox_area */
 static inline float area_of(const float b[6])
 {
     return b[3] >= b[0] ? rt_box_area(b) : 0.0f;
 }
+#endif
 
 /* A growing box for the sweeps. With SSE2 it is two registers (lanes 0..2
  * of lo the minima, lanes 1..3 of hi the maxima, as in cut_binned), so that
@@ -235,6 +237,11 @@ static inline float sbox_area(const sbox *b)
     const float xy = _mm_cvtss_f32(p), yz = _mm_cvtss_f32(_mm_shuffle_ps(p, p, 1)),
                 zx = _mm_cvtss_f32(_mm_movehl_ps(p, p));
     return 2.0f * (xy + yz + zx);
+}
+/* area_of's test: hi x >= lo x */
+static inline int sbox_nonempty(const sbox *b)
+{
+    return _mm_cvtss_f32(_mm_shuffle_ps(b->hi, b->hi, 1)) >= _mm_cvtss_f32(b->lo);
 }
 static inline void sbox_store(const sbox *b, float out[6])
 {
@@ -348,7 +355,9 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
 {
     float scale[3];
     uint32_t cnt[3][BINS];
+#if !defined(__SSE2__)
     float box[3][BINS][6];
+#endif
     memset(cnt, 0, sizeof cnt);
     for (int a = 0; a < 3; a++)
         scale[a] = cb[a + 3] > cb[a] ? (float)BINS / (cb[a + 3] - cb[a]) : 0.0f;
@@ -383,14 +392,6 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
             bhi[a][j] = _mm_max_ps(bhi[a][j], hi4);
         }
     }
-    for (int a = 0; a < 3; a++)
-        for (int j = 0; j < BINS; j++) {
-            float l[4], h[4];
-            _mm_storeu_ps(l, blo[a][j]);
-            _mm_storeu_ps(h, bhi[a][j]);
-            const float b6[6] = {l[0], l[1], l[2], h[1], h[2], h[3]};
-            memcpy(box[a][j], b6, sizeof b6);
-        }
 #else
     for (int a = 0; a < 3; a++)
         for (int j = 0; j < BINS; j++) rt_box_empty(box[a][j]);
@@ -413,21 +414,40 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
         /* prefix: bins [0, j); suffix: bins [j, BINS) */
         float pre_a[BINS + 1], suf_a[BINS + 1];
         uint32_t pre_c[BINS + 1];
-        float b[6];
-        rt_box_empty(b);
         pre_a[0] = 0.0f;
         pre_c[0] = 0;
+        suf_a[BINS] = 0.0f;
+#if defined(__SSE2__)
+        /* on the bins' registers (the same min/max operands and area
+         * arithmetic as area_of on the stored boxes, so the same floats) */
+        sbox b;
+        sbox_empty(&b);
+        for (int j = 0; j < BINS; j++) {
+            b.lo = _mm_min_ps(b.lo, blo[axis][j]);
+            b.hi = _mm_max_ps(b.hi, bhi[axis][j]);
+            pre_a[j + 1] = sbox_nonempty(&b) ? sbox_area(&b) : 0.0f;
+            pre_c[j + 1] = pre_c[j] + cnt[axis][j];
+        }
+        sbox_empty(&b);
+        for (int j = BINS; j-- > 0;) {
+            b.lo = _mm_min_ps(b.lo, blo[axis][j]);
+            b.hi = _mm_max_ps(b.hi, bhi[axis][j]);
+            suf_a[j] = sbox_nonempty(&b) ? sbox_area(&b) : 0.0f;
+        }
+#else
+        float b[6];
+        rt_box_empty(b);
         for (int j = 0; j < BINS; j++) {
             rt_box_grow(b, box[axis][j]);
             pre_a[j + 1] = area_of(b);
             pre_c[j + 1] = pre_c[j] + cnt[axis][j];
         }
         rt_box_empty(b);
-        suf_a[BINS] = 0.0f;
         for (int j = BINS; j-- > 0;) {
             rt_box_grow(b, box[axis][j]);
             suf_a[j] = area_of(b);
         }
+#endif
         for (int j = 1; j < BINS; j++) {
             uint32_t c = pre_c[j];
             uint32_t f = (uint32_t)cut_set_nearest(&cs, c);
