@@ -38,6 +38,11 @@ typedef struct rtc_tree {
 /* Packs the finished pointer tree (any builder's) into t; on error t holds
  * what was allocated, for rtc_free. */
 tt_status rtc_pack(tt_context *ctx, const rt_builder *b, const float *scene_tri, rtc_tree *t);
+/* The same layout from the SAH loader's level form (rtree_bulk.h), the
+ * same records and blocks as rtc_pack writes for that tree. */
+struct rt_bulk_levels;
+tt_status rtc_pack_levels(tt_context *ctx, const struct rt_bulk_levels *lv, const float *scene_tri,
+                          rtc_tree *t);
 void rtc_free(tt_context *ctx, rtc_tree *t);
 size_t rtc_bytes(const rtc_tree *t);
 

@@ -110,6 +110,25 @@ static tt_status rtree_build(tt_accel *a)
             bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
         }
     }
+    /* the default (SAH loader, compact layout) packs the loader's level
+     * form straight into the layout: the same tree without the pointer
+     * tree's node pool (rtree_bulk.h) */
+    if (o->build == TT_RTREE_BUILD_SAH && t->layout == TT_RTREE_LAYOUT_COMPACT &&
+        T > (uint32_t)o->M) {
+        rt_bulk_levels lv;
+        st = rt_bulk_sah_levels(&lv, a->ctx, o, tri_box, T);
+        double t1 = tt_now();
+        if (st == TT_OK) {
+            st = rtc_pack_levels(a->ctx, &lv, scene->tri, &t->compact);
+            rtc_select(&t->compact, (int)o->traversal, a->isa);
+        }
+        double t2 = tt_now();
+        rt_bulk_levels_free(a->ctx, &lv);
+        tt_free(a->ctx, tri_box);
+        t->insert_s = t1 - t0;
+        t->pack_s = t2 - t1;
+        return st;
+    }
     /* the same pointer tree from either kind of builder (the insertion
      * options apply to insertion only) */
     rt_builder b;

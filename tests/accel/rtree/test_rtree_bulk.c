@@ -6,7 +6,9 @@
  * check, and rays against bruteforce, on real scenes and on edge cases
  * (0, 1, M, M+1, 2M+1, M^2+1 triangles, identical triangles, zero-area
  * triangles, all box centres equal, a planar grid); the same tree for 1 and
- * 2 threads; the SAH loader's tree cheaper (SAH cost) than the others';
+ * 2 threads; the SAH loader's level form packed into the same compact
+ * layout as its pointer tree; the SAH loader's tree cheaper (SAH cost) than
+ * the others';
  * option validation. */
 #include <math.h>
 #include <stdlib.h>
@@ -146,6 +148,37 @@ static float *triangle_boxes(const tt_scene *scene)
     return box;
 }
 
+/* The default build's path: the SAH loader's level form packed straight
+ * into the compact layout gives the same bytes as its pointer tree packed
+ * by rtc_pack. */
+static void level_form_same(tt_context *ctx, const rt_builder *b, const tt_rtree_options *o,
+                            const float *box, const tt_scene *scene, const char *what)
+{
+    const uint32_t T = (uint32_t)scene->triangle_count;
+    rtc_tree a, c;
+    memset(&a, 0, sizeof a);
+    memset(&c, 0, sizeof c);
+    rt_bulk_levels lv;
+    tt_status st = rtc_pack(ctx, b, scene->tri, &a);
+    if (st == TT_OK) st = rt_bulk_sah_levels(&lv, ctx, o, box, T);
+    else memset(&lv, 0, sizeof lv);
+    if (st == TT_OK) st = rtc_pack_levels(ctx, &lv, scene->tri, &c);
+    CHECK_MSG(st == TT_OK, "%s: level form m=%d M=%d: %s", what, o->m, o->M,
+              tt_context_last_error(ctx));
+    if (st == TT_OK) {
+        const int same = a.c.nodes == c.c.nodes && a.c.blocks == c.c.blocks &&
+                         a.c.words == c.c.words && a.c.height == c.c.height &&
+                         memcmp(a.c.node, c.c.node,
+                                (size_t)a.c.nodes * a.c.words * sizeof(float)) == 0 &&
+                         memcmp(a.c.block, c.c.block, (size_t)a.c.blocks * sizeof(tt_tri_block)) == 0;
+        CHECK_MSG(same, "%s: level form m=%d M=%d: a layout other than rtc_pack's", what, o->m,
+                  o->M);
+    }
+    rt_bulk_levels_free(ctx, &lv);
+    rtc_free(ctx, &a);
+    rtc_free(ctx, &c);
+}
+
 /* The pointer tree of every loader: its invariants, and its shape: the
  * smallest height for SAH, and full leaves (M each, the last two evened)
  * for STR and Hilbert. */
@@ -170,6 +203,8 @@ static void white_box(tt_context *ctx, const tt_scene *scene, const char *what)
                 int level = b.hdr[b.root].level;
                 CHECK_MSG(level == L, "%s: %s m=%d M=%d: root on level %d, the smallest is %d",
                           what, build_names[bld], m, M, level, L);
+                if (bld == TT_RTREE_BUILD_SAH && T > (uint32_t)M)
+                    level_form_same(ctx, &b, &o.rtree, box, scene, what);
                 if (bld != TT_RTREE_BUILD_SAH) {
                     uint32_t short_leaves = 0;
                     for (uint32_t n = 0; n < b.node_count; n++)

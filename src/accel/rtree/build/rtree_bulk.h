@@ -35,7 +35,8 @@ int rt_bulk_threads(tt_context *ctx);
 #define RT_BULK_PARALLEL_MIN (1u << 18)
 
 /* Sets b's options and allocates a pool of exactly `nodes` nodes, all in
- * use (headers zeroed, boxes zeroed). */
+ * use (headers zeroed; boxes and children uninitialised: the caller writes
+ * every node's entries 0 .. count - 1). */
 tt_status rt_bulk_pool(rt_builder *b, tt_context *ctx, const tt_rtree_options *opt,
                        const float *tri_box, uint32_t T, uint32_t nodes);
 
@@ -54,7 +55,8 @@ void rt_bulk_chunk(uint32_t n, int m, int M, uint32_t *start);
 void rt_bulk_make_level(rt_builder *b, int level, const uint32_t *items, const uint32_t *start,
                         uint32_t g, uint32_t first, int threads);
 
-/* Box centres of the triangles (3 floats each): the centroid of the box. */
+/* Box centres of the triangles (3 floats each, then one float 0 of padding):
+ * the centroid of the box. */
 tt_status rt_bulk_centres(tt_context *ctx, const float *tri_box, uint32_t T, float **out);
 
 /* Bottom-up packing: leaves from the triangle ids in `order` (all T, in
@@ -84,6 +86,32 @@ static inline uint32_t rt_float_key(float f)
 
 /* The index of cell (x, y, z) (bits bits each) along the 3D Hilbert curve. */
 uint64_t rt_hilbert_key(uint32_t x, uint32_t y, uint32_t z, int bits);
+
+/* The SAH loader's tree in level form, for packing straight into the
+ * compact layout (rtc_pack_levels) without the pointer tree, whose node
+ * pool (6 x 20 floats of boxes a node, most of them leaves of two or three
+ * triangles) was a third of the build's time in page faults and writes.
+ * Level 0 holds the leaves, level `height` (>= 1) the root; nodes of a
+ * level are numbered left to right, which is also depth-first order. */
+typedef struct rt_bulk_levels {
+    uint32_t height, M, triangles;
+    uint32_t count[TT_RT_BUILD_LEVELS];  /* nodes on each level            */
+    /* level-l node j's entries are [first[l][j], first[l][j + 1]): on level
+     * 0 positions in `order`, above it nodes of level l - 1 */
+    uint32_t *first[TT_RT_BUILD_LEVELS];
+    float *box[TT_RT_BUILD_LEVELS];      /* 6 floats a node, exact          */
+    const uint32_t *order;               /* triangle ids in leaf order      */
+    uint32_t *order_mem, *first_mem;     /* owned                           */
+    float *box_mem;
+} rt_bulk_levels;
+
+/* The SAH loader (opt->build is not read) into lv, for T >= 1 triangles
+ * whose root is above the leaves (T > M; otherwise an invalid-argument
+ * error: build the pointer tree). rt_bulk_levels_free afterwards, also
+ * after an error. */
+tt_status rt_bulk_sah_levels(rt_bulk_levels *lv, tt_context *ctx, const tt_rtree_options *opt,
+                             const float *tri_box, uint32_t T);
+void rt_bulk_levels_free(tt_context *ctx, rt_bulk_levels *lv);
 
 /* The loaders. */
 tt_status rt_bulk_str(rt_builder *b, tt_context *ctx, const tt_rtree_options *opt,

@@ -39,6 +39,13 @@
 #define BINS 32
 #define SWEEP_MAX 64      /* ranges up to this size are swept exactly */
 #define TASK_MIN 4096     /* subtrees of at least this many triangles are tasks */
+#define PART_TASK_MIN 8192 /* so are both sides of a cut of at least this many */
+/* Scenes of at least this many triangles are built on the context's threads.
+ * Measured on the shared 2-core machine under load (notes/build.md): with
+ * the region from 8192 on, bunny and Sibenik built 1.5-2.3x slower on two
+ * threads than on one (the other thread, descheduled, holds a task the
+ * first then waits for), so smaller scenes stay on one thread. */
+#define SAH_PARALLEL_MIN (RT_BULK_PARALLEL_MIN / 2)
 
 typedef struct sah {
     const float *tri_box;
@@ -124,6 +131,13 @@ static void cut_set_init(cut_set *cs, uint64_t n, int k, uint64_t lo, uint64_t h
     for (int k1 = 1; k1 < k; k1++) {
         uint64_t a, b;
         if (!cut_interval(n, k, k1, lo, hi, &a, &b)) continue;
+        /* both ends grow with k1: an interval that overlaps or touches the
+         * last one extends it (the nearest cut stays the same; mostly one
+         * interval is left, so each question is one clamp) */
+        if (cs->count > 0 && a <= cs->b[cs->count - 1] + 1) {
+            if (b > cs->b[cs->count - 1]) cs->b[cs->count - 1] = b;
+            continue;
+        }
         cs->a[cs->count] = a;
         cs->b[cs->count++] = b;
     }
@@ -190,10 +204,62 @@ static void select_first(const sah *s, int axis, uint32_t *v, uint32_t n, uint32
     }
 }
 
+#if !defined(__SSE2__) /* the SSE2 code has sbox_nonempty and sbox_area */
 static inline float area_of(const float b[6])
 {
     return b[3] >= b[0] ? rt_box_area(b) : 0.0f;
 }
+#endif
+
+/* A growing box for the sweeps. With SSE2 it is two registers (lanes 0..2
+ * of lo the minima, lanes 1..3 of hi the maxima, as in cut_binned), so that
+ * growing by a triangle box is two loads, a min and a max; the area is
+ * computed in rt_box_area's order, so every cost is bit-identical to the
+ * scalar code's. */
+#if defined(__SSE2__)
+typedef struct sbox {
+    __m128 lo, hi;
+} sbox;
+static inline void sbox_empty(sbox *b)
+{
+    b->lo = _mm_set1_ps(TT_INF);
+    b->hi = _mm_set1_ps(-TT_INF);
+}
+static inline void sbox_grow(sbox *b, const float *tb)
+{
+    b->lo = _mm_min_ps(b->lo, _mm_loadu_ps(tb));
+    b->hi = _mm_max_ps(b->hi, _mm_loadu_ps(tb + 2));
+}
+static inline float sbox_area(const sbox *b)
+{
+    const __m128 d = _mm_sub_ps(_mm_shuffle_ps(b->hi, b->hi, _MM_SHUFFLE(3, 3, 2, 1)), b->lo);
+    const __m128 p = _mm_mul_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(3, 0, 2, 1)));
+    const float xy = _mm_cvtss_f32(p), yz = _mm_cvtss_f32(_mm_shuffle_ps(p, p, 1)),
+                zx = _mm_cvtss_f32(_mm_movehl_ps(p, p));
+    return 2.0f * (xy + yz + zx);
+}
+/* area_of's test: hi x >= lo x */
+static inline int sbox_nonempty(const sbox *b)
+{
+    return _mm_cvtss_f32(_mm_shuffle_ps(b->hi, b->hi, 1)) >= _mm_cvtss_f32(b->lo);
+}
+static inline void sbox_store(const sbox *b, float out[6])
+{
+    float l[4], h[4];
+    _mm_storeu_ps(l, b->lo);
+    _mm_storeu_ps(h, b->hi);
+    const float b6[6] = {l[0], l[1], l[2], h[1], h[2], h[3]};
+    memcpy(out, b6, sizeof b6);
+}
+#else
+typedef struct sbox {
+    float b[6];
+} sbox;
+static inline void sbox_empty(sbox *b) { rt_box_empty(b->b); }
+static inline void sbox_grow(sbox *b, const float *tb) { rt_box_grow(b->b, tb); }
+static inline float sbox_area(const sbox *b) { return rt_box_area(b->b); }
+static inline void sbox_store(const sbox *b, float out[6]) { memcpy(out, b->b, sizeof b->b); }
+#endif
 
 /* ----------------------------------------------------------------- cuts */
 
@@ -239,17 +305,17 @@ static void cut_sweep(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo,
         uint64_t *a = sorted[axis];
         for (uint32_t i = 0; i < n; i++) a[i] = item_key(s->cen[3 * (size_t)v[i] + axis], v[i]);
         sort_keys(a, n);
-        float b[6];
-        rt_box_empty(b);
+        sbox b;
+        sbox_empty(&b);
         for (uint32_t i = n; i-- > 1;) {
-            rt_box_grow(b, s->tri_box + 6 * (size_t)(uint32_t)a[i]);
-            right[i] = rt_box_area(b);
+            sbox_grow(&b, s->tri_box + 6 * (size_t)(uint32_t)a[i]);
+            right[i] = sbox_area(&b);
         }
-        rt_box_empty(b);
+        sbox_empty(&b);
         for (uint32_t c = 1; c < n; c++) {
-            rt_box_grow(b, s->tri_box + 6 * (size_t)(uint32_t)a[c - 1]);
+            sbox_grow(&b, s->tri_box + 6 * (size_t)(uint32_t)a[c - 1]);
             if (!ok[c]) continue;
-            float cost = rt_box_area(b) * (float)c + right[c] * (float)(n - c);
+            float cost = sbox_area(&b) * (float)c + right[c] * (float)(n - c);
             if (cost < best) best = cost, best_axis = axis, best_c = c;
         }
     }
@@ -274,11 +340,13 @@ static void centre_bounds(const sah *s, const uint32_t *v, uint32_t n, float cb[
     }
 }
 
+#if !defined(__SSE2__) /* the SSE2 code computes three at once, the same way */
 static inline int bin_of(float c, float lo, float scale)
 {
     int j = (int)((c - lo) * scale);
     return j < 0 ? 0 : j >= BINS ? BINS - 1 : j;
 }
+#endif
 
 /* The same for large ranges, by binning the centres (whose bounds are cb);
  * also returns the centre bounds of both sides. */
@@ -287,7 +355,9 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
 {
     float scale[3];
     uint32_t cnt[3][BINS];
+#if !defined(__SSE2__)
     float box[3][BINS][6];
+#endif
     memset(cnt, 0, sizeof cnt);
     for (int a = 0; a < 3; a++)
         scale[a] = cb[a + 3] > cb[a] ? (float)BINS / (cb[a + 3] - cb[a]) : 0.0f;
@@ -301,24 +371,27 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
             blo[a][j] = _mm_set1_ps(TT_INF);
             bhi[a][j] = _mm_set1_ps(-TT_INF);
         }
+    /* the three bins of a centre at once: the scalar code's bin_of
+     * arithmetic, clamped in float before the conversion (the same bins:
+     * the products are the same, and the clamp only moves values whose bin
+     * is clamped anyway); the centres are padded by a float, so the
+     * 4-float load is safe */
+    const __m128 clo4 = _mm_setr_ps(cb[0], cb[1], cb[2], 0.0f);
+    const __m128 sc4 = _mm_setr_ps(scale[0], scale[1], scale[2], 0.0f);
+    const __m128 zero4 = _mm_setzero_ps(), top4 = _mm_set1_ps((float)(BINS - 1));
     for (uint32_t i = 0; i < n; i++) {
         const float *c = s->cen + 3 * (size_t)v[i], *tb = s->tri_box + 6 * (size_t)v[i];
         const __m128 lo4 = _mm_loadu_ps(tb), hi4 = _mm_loadu_ps(tb + 2);
+        const __m128 x = _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(c), clo4), sc4);
+        int jj[4];
+        _mm_storeu_si128((__m128i *)jj, _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(x, zero4), top4)));
         for (int a = 0; a < 3; a++) {
-            const int j = bin_of(c[a], cb[a], scale[a]);
+            const int j = jj[a];
             cnt[a][j]++;
             blo[a][j] = _mm_min_ps(blo[a][j], lo4);
             bhi[a][j] = _mm_max_ps(bhi[a][j], hi4);
         }
     }
-    for (int a = 0; a < 3; a++)
-        for (int j = 0; j < BINS; j++) {
-            float l[4], h[4];
-            _mm_storeu_ps(l, blo[a][j]);
-            _mm_storeu_ps(h, bhi[a][j]);
-            const float b6[6] = {l[0], l[1], l[2], h[1], h[2], h[3]};
-            memcpy(box[a][j], b6, sizeof b6);
-        }
 #else
     for (int a = 0; a < 3; a++)
         for (int j = 0; j < BINS; j++) rt_box_empty(box[a][j]);
@@ -341,21 +414,40 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
         /* prefix: bins [0, j); suffix: bins [j, BINS) */
         float pre_a[BINS + 1], suf_a[BINS + 1];
         uint32_t pre_c[BINS + 1];
-        float b[6];
-        rt_box_empty(b);
         pre_a[0] = 0.0f;
         pre_c[0] = 0;
+        suf_a[BINS] = 0.0f;
+#if defined(__SSE2__)
+        /* on the bins' registers (the same min/max operands and area
+         * arithmetic as area_of on the stored boxes, so the same floats) */
+        sbox b;
+        sbox_empty(&b);
+        for (int j = 0; j < BINS; j++) {
+            b.lo = _mm_min_ps(b.lo, blo[axis][j]);
+            b.hi = _mm_max_ps(b.hi, bhi[axis][j]);
+            pre_a[j + 1] = sbox_nonempty(&b) ? sbox_area(&b) : 0.0f;
+            pre_c[j + 1] = pre_c[j] + cnt[axis][j];
+        }
+        sbox_empty(&b);
+        for (int j = BINS; j-- > 0;) {
+            b.lo = _mm_min_ps(b.lo, blo[axis][j]);
+            b.hi = _mm_max_ps(b.hi, bhi[axis][j]);
+            suf_a[j] = sbox_nonempty(&b) ? sbox_area(&b) : 0.0f;
+        }
+#else
+        float b[6];
+        rt_box_empty(b);
         for (int j = 0; j < BINS; j++) {
             rt_box_grow(b, box[axis][j]);
             pre_a[j + 1] = area_of(b);
             pre_c[j + 1] = pre_c[j] + cnt[axis][j];
         }
         rt_box_empty(b);
-        suf_a[BINS] = 0.0f;
         for (int j = BINS; j-- > 0;) {
             rt_box_grow(b, box[axis][j]);
             suf_a[j] = area_of(b);
         }
+#endif
         for (int j = 1; j < BINS; j++) {
             uint32_t c = pre_c[j];
             uint32_t f = (uint32_t)cut_set_nearest(&cs, c);
@@ -377,9 +469,42 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
         /* the cut is a bin boundary: one partitioning pass, which also
          * bounds both sides' centres */
         const int a = best_axis;
+        uint32_t i = 0, j = n;
+#if defined(__SSE2__)
+        /* the bin as the binning loop computed it, the centres' bounds in
+         * registers */
+        __m128 llo = _mm_set1_ps(TT_INF), lhi = _mm_set1_ps(-TT_INF);
+        __m128 rlo = llo, rhi = lhi;
+        while (i < j) {
+            const __m128 c4 = _mm_loadu_ps(s->cen + 3 * (size_t)v[i]);
+            const __m128 x = _mm_mul_ps(_mm_sub_ps(c4, clo4), sc4);
+            int jj[4];
+            _mm_storeu_si128((__m128i *)jj,
+                             _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(x, zero4), top4)));
+            if (jj[a] < best_bin) {
+                llo = _mm_min_ps(llo, c4);
+                lhi = _mm_max_ps(lhi, c4);
+                i++;
+            } else {
+                rlo = _mm_min_ps(rlo, c4);
+                rhi = _mm_max_ps(rhi, c4);
+                uint32_t t = v[i];
+                v[i] = v[--j];
+                v[j] = t;
+            }
+        }
+        float t4[4];
+        _mm_storeu_ps(t4, llo);
+        memcpy(cbl, t4, 3 * sizeof(float));
+        _mm_storeu_ps(t4, lhi);
+        memcpy(cbl + 3, t4, 3 * sizeof(float));
+        _mm_storeu_ps(t4, rlo);
+        memcpy(cbr, t4, 3 * sizeof(float));
+        _mm_storeu_ps(t4, rhi);
+        memcpy(cbr + 3, t4, 3 * sizeof(float));
+#else
         rt_box_empty(cbl);
         rt_box_empty(cbr);
-        uint32_t i = 0, j = n;
         while (i < j) {
             const float *c = s->cen + 3 * (size_t)v[i];
             if (bin_of(c[a], cb[a], scale[a]) < best_bin) {
@@ -398,6 +523,7 @@ static void cut_binned(const sah *s, uint32_t *v, uint32_t n, int k, uint64_t lo
                 v[j] = t;
             }
         }
+#endif
     } else {
         if (best_axis < 0) { /* all centres equal: any cut, by id */
             best_axis = 0;
@@ -420,14 +546,15 @@ typedef struct group {
 } group;
 
 /* Cuts v[0 .. n) (centre bounds cb, needed when n > SWEEP_MAX) into k groups
- * of lo..hi triangles, appended to out[*g]. */
+ * of lo..hi triangles, written to out[g .. g + k). The two sides of a large
+ * cut are cut as tasks: each writes its own groups, so the result does not
+ * depend on which thread cuts which. */
 static void partition(const sah *s, uint32_t *v, uint32_t off, uint32_t n, int k, uint64_t lo,
-                      uint64_t hi, const float cb[6], group *out, int *g)
+                      uint64_t hi, const float cb[6], group *out, int g)
 {
     if (k == 1) {
-        out[*g].start = off;
-        memcpy(out[*g].cb, cb, sizeof out[*g].cb);
-        (*g)++;
+        out[g].start = off;
+        memcpy(out[g].cb, cb, sizeof out[g].cb);
         return;
     }
     uint32_t c;
@@ -440,8 +567,15 @@ static void partition(const sah *s, uint32_t *v, uint32_t off, uint32_t n, int k
     } else {
         cut_binned(s, v, n, k, lo, hi, cb, &c, &k1, cbl, cbr);
     }
-    partition(s, v, off, c, k1, lo, hi, cbl, out, g);
-    partition(s, v + c, off + c, n - c, k - k1, lo, hi, cbr, out, g);
+    if (n >= PART_TASK_MIN) {
+#pragma omp task firstprivate(c, k1, cbl)
+        partition(s, v, off, c, k1, lo, hi, cbl, out, g);
+        partition(s, v + c, off + c, n - c, k - k1, lo, hi, cbr, out, g + k1);
+#pragma omp taskwait
+    } else {
+        partition(s, v, off, c, k1, lo, hi, cbl, out, g);
+        partition(s, v + c, off + c, n - c, k - k1, lo, hi, cbr, out, g + k1);
+    }
 }
 
 /* ------------------------------------------------------ small subtrees */
@@ -476,17 +610,17 @@ static void small_cut(small *sm, uint32_t a, uint32_t n, int k, uint64_t lo, uin
     uint32_t best_c = 0;
     for (int axis = 0; axis < 3; axis++) {
         const uint8_t *l = sm->list[axis] + a;
-        float b[6];
-        rt_box_empty(b);
+        sbox b;
+        sbox_empty(&b);
         for (uint32_t i = n; i-- > 1;) {
-            rt_box_grow(b, s->tri_box + 6 * (size_t)sm->id[l[i]]);
-            right[i] = rt_box_area(b);
+            sbox_grow(&b, s->tri_box + 6 * (size_t)sm->id[l[i]]);
+            right[i] = sbox_area(&b);
         }
-        rt_box_empty(b);
+        sbox_empty(&b);
         for (uint32_t c = 1; c < n; c++) {
-            rt_box_grow(b, s->tri_box + 6 * (size_t)sm->id[l[c - 1]]);
+            sbox_grow(&b, s->tri_box + 6 * (size_t)sm->id[l[c - 1]]);
             if (!ok[c]) continue;
-            float cost = rt_box_area(b) * (float)c + right[c] * (float)(n - c);
+            float cost = sbox_area(&b) * (float)c + right[c] * (float)(n - c);
             if (cost < best) best = cost, best_axis = axis, best_c = c;
         }
     }
@@ -572,8 +706,8 @@ static void build_node(const sah *s, uint32_t first, uint32_t n, int level, cons
     if (kmax > (uint64_t)s->M) kmax = (uint64_t)s->M;
     const int k = (int)kmax;
     group grp[TT_RT_MAX_M + 1];
-    int g = 0;
-    partition(s, s->idx + first, first, n, k, lo, hi, cb, grp, &g);
+    const int g = k;
+    partition(s, s->idx + first, first, n, k, lo, hi, cb, grp, 0);
     grp[g].start = first + n;
     for (int j = 1; j < g; j++) s->mark[grp[j].start] = (uint8_t)level; /* level - 1, plus one */
     if (level == 1) return;
@@ -589,44 +723,68 @@ static void build_node(const sah *s, uint32_t first, uint32_t n, int level, cons
     }
 }
 
-tt_status rt_bulk_sah(rt_builder *b, tt_context *ctx, const tt_rtree_options *opt,
-                      const float *tri_box, uint32_t T)
+/* Runs the SAH loader: *s gets the triangle order (idx) and the node marks
+ * (mark), and the root level; s->cen, s->idx, s->mark are allocated here
+ * (sah_free). */
+static tt_status sah_run(sah *s, tt_context *ctx, const tt_rtree_options *opt,
+                         const float *tri_box, uint32_t T)
 {
-    sah s;
-    memset(&s, 0, sizeof s);
-    s.tri_box = tri_box;
-    s.m = opt->m;
-    s.M = opt->M;
+    memset(s, 0, sizeof *s);
+    s->tri_box = tri_box;
+    s->m = opt->m;
+    s->M = opt->M;
     /* capacities by level; the root level: smallest L with M^(L+1) >= T */
     int L = 0;
     for (int l = 0; l < TT_RT_BUILD_LEVELS; l++) {
-        s.lo[l] = l == 0 ? (uint64_t)opt->m : s.lo[l - 1] * (uint64_t)opt->m;
-        s.hi[l] = l == 0 ? (uint64_t)opt->M : s.hi[l - 1] * (uint64_t)opt->M;
-        if (s.lo[l] > ((uint64_t)1 << 40)) s.lo[l] = (uint64_t)1 << 40; /* beyond any T */
-        if (s.hi[l] > ((uint64_t)1 << 40)) s.hi[l] = (uint64_t)1 << 40;
+        s->lo[l] = l == 0 ? (uint64_t)opt->m : s->lo[l - 1] * (uint64_t)opt->m;
+        s->hi[l] = l == 0 ? (uint64_t)opt->M : s->hi[l - 1] * (uint64_t)opt->M;
+        if (s->lo[l] > ((uint64_t)1 << 40)) s->lo[l] = (uint64_t)1 << 40; /* beyond any T */
+        if (s->hi[l] > ((uint64_t)1 << 40)) s->hi[l] = (uint64_t)1 << 40;
     }
-    while (s.hi[L] < T) L++;
-    s.root_level = L;
+    while (s->hi[L] < T) L++;
+    s->root_level = L;
     const int threads = rt_bulk_threads(ctx);
     const size_t n = T ? T : 1;
     float *cen = NULL;
     tt_status st = rt_bulk_centres(ctx, tri_box, T, &cen);
-    s.cen = cen;
-    s.idx = tt_alloc_array(ctx, n, sizeof *s.idx);
-    s.mark = tt_calloc(ctx, n, 1);
-    uint32_t *start = tt_alloc_array(ctx, n + 1, sizeof *start);
-    if (st == TT_OK && (!s.idx || !s.mark || !start))
+    s->cen = cen;
+    s->idx = tt_alloc_array(ctx, n, sizeof *s->idx);
+    s->mark = tt_calloc(ctx, n, 1);
+    if (st == TT_OK && (!s->idx || !s->mark))
+        st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree: out of memory (SAH build, %u triangles)", T);
+    if (st != TT_OK) return st;
+    for (uint32_t i = 0; i < T; i++) s->idx[i] = i;
+    if (T > 0) s->mark[0] = (uint8_t)(L + 1);
+    if (L > 0) {
+        float cb[6];
+        centre_bounds(s, s->idx, T, cb);
+#pragma omp parallel num_threads(threads) if (T >= SAH_PARALLEL_MIN)
+#pragma omp single
+        build_node(s, 0, T, L, cb);
+    }
+    return TT_OK;
+}
+
+static void sah_free(tt_context *ctx, sah *s)
+{
+    tt_free(ctx, (void *)s->cen);
+    tt_free(ctx, s->idx);
+    tt_free(ctx, s->mark);
+    s->cen = NULL;
+    s->idx = NULL;
+    s->mark = NULL;
+}
+
+tt_status rt_bulk_sah(rt_builder *b, tt_context *ctx, const tt_rtree_options *opt,
+                      const float *tri_box, uint32_t T)
+{
+    sah s;
+    tt_status st = sah_run(&s, ctx, opt, tri_box, T);
+    const int L = s.root_level, threads = rt_bulk_threads(ctx);
+    uint32_t *start = st == TT_OK ? tt_alloc_array(ctx, (size_t)T + 1, sizeof *start) : NULL;
+    if (st == TT_OK && !start)
         st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree: out of memory (SAH build, %u triangles)", T);
     if (st == TT_OK) {
-        for (uint32_t i = 0; i < T; i++) s.idx[i] = i;
-        if (T > 0) s.mark[0] = (uint8_t)(L + 1);
-        if (L > 0) {
-            float cb[6];
-            centre_bounds(&s, s.idx, T, cb);
-#pragma omp parallel num_threads(threads) if (T >= RT_BULK_PARALLEL_MIN / 2)
-#pragma omp single
-            build_node(&s, 0, T, L, cb);
-        }
         /* nodes per level from the marks: a level-l node starts where
          * mark > l */
         uint32_t count[TT_RT_BUILD_LEVELS] = {0};
@@ -664,9 +822,97 @@ tt_status rt_bulk_sah(rt_builder *b, tt_context *ctx, const tt_rtree_options *op
             }
         }
     }
-    tt_free(ctx, cen);
-    tt_free(ctx, s.idx);
-    tt_free(ctx, s.mark);
+    sah_free(ctx, &s);
     tt_free(ctx, start);
     return st;
+}
+
+void rt_bulk_levels_free(tt_context *ctx, rt_bulk_levels *lv)
+{
+    tt_free(ctx, lv->order_mem);
+    tt_free(ctx, lv->first_mem);
+    tt_free(ctx, lv->box_mem);
+    memset(lv, 0, sizeof *lv);
+}
+
+tt_status rt_bulk_sah_levels(rt_bulk_levels *lv, tt_context *ctx, const tt_rtree_options *opt,
+                             const float *tri_box, uint32_t T)
+{
+    memset(lv, 0, sizeof *lv);
+    sah s;
+    tt_status st = sah_run(&s, ctx, opt, tri_box, T);
+    const int L = s.root_level;
+    if (st == TT_OK && (T == 0 || L == 0))
+        st = tt_error(ctx, TT_ERR_INVALID_ARGUMENT,
+                      "rtree: the level form needs a root above the leaves (%u triangles)", T);
+    if (st != TT_OK) {
+        sah_free(ctx, &s);
+        return st;
+    }
+    /* nodes per level: a level-l node starts where mark > l */
+    uint64_t total = 0;
+    for (uint32_t p = 0; p < T; p++)
+        for (int l = 0; l < s.mark[p]; l++) lv->count[l]++;
+    for (int l = 0; l <= L; l++) total += lv->count[l];
+    lv->first_mem = tt_alloc_array(ctx, total + (uint64_t)L + 1, sizeof(uint32_t));
+    lv->box_mem = tt_alloc_array(ctx, total, 6 * sizeof(float));
+    uint32_t *pos = tt_alloc_array(ctx, lv->count[0] + 1, sizeof *pos);
+    if (!lv->first_mem || !lv->box_mem || !pos) {
+        sah_free(ctx, &s);
+        tt_free(ctx, pos);
+        rt_bulk_levels_free(ctx, lv);
+        return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree: out of memory (SAH levels, %u triangles)",
+                        T);
+    }
+    lv->height = (uint32_t)L;
+    lv->M = (uint32_t)opt->M;
+    lv->triangles = T;
+    lv->order = lv->order_mem = s.idx;
+    s.idx = NULL;
+    {
+        uint32_t *f = lv->first_mem;
+        float *bx = lv->box_mem;
+        for (int l = 0; l <= L; l++) {
+            lv->first[l] = f;
+            lv->box[l] = bx;
+            f += lv->count[l] + 1;
+            bx += 6 * (size_t)lv->count[l];
+        }
+    }
+    /* leaves: their triangle ranges and boxes */
+    uint32_t g = 0;
+    for (uint32_t p = 0; p < T; p++)
+        if (s.mark[p] > 0) lv->first[0][g++] = p;
+    lv->first[0][g] = T;
+    for (uint32_t j = 0; j < g; j++) {
+        sbox b;
+        sbox_empty(&b);
+        for (uint32_t p = lv->first[0][j]; p < lv->first[0][j + 1]; p++)
+            sbox_grow(&b, tri_box + 6 * (size_t)lv->order[p]);
+        sbox_store(&b, lv->box[0] + 6 * (size_t)j);
+        pos[j] = lv->first[0][j];
+    }
+    /* level l: groups the level l-1 nodes whose start (pos) has mark > l;
+     * pos is rewritten in place to the level's own starts */
+    for (int l = 1; l <= L; l++) {
+        const uint32_t below = lv->count[l - 1];
+        uint32_t gg = 0;
+        for (uint32_t j = 0; j < below; j++)
+            if (s.mark[pos[j]] > l) {
+                lv->first[l][gg] = j;
+                pos[gg++] = pos[j];
+            }
+        lv->first[l][gg] = below;
+        const float *cb = lv->box[l - 1];
+        for (uint32_t k = 0; k < gg; k++) {
+            sbox b;
+            sbox_empty(&b);
+            for (uint32_t j = lv->first[l][k]; j < lv->first[l][k + 1]; j++)
+                sbox_grow(&b, cb + 6 * (size_t)j);
+            sbox_store(&b, lv->box[l] + 6 * (size_t)k);
+        }
+    }
+    tt_free(ctx, pos);
+    sah_free(ctx, &s);
+    return TT_OK;
 }

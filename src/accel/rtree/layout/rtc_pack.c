@@ -1,6 +1,8 @@
 /* Packing the builder's pointer tree (any builder: insertion or bulk
  * loading, they all fill rt_builder) into the compact layout
- * (rtc_layout.h). Boxes are copied verbatim from the pointer tree, never
+ * (rtc_layout.h); or the SAH loader's level form (rt_bulk_levels), which
+ * the default build packs without making the pointer tree, by the same
+ * walk into the same bytes. Boxes are copied verbatim from the pointer tree, never
  * recomputed, so the check (rtc_check.c) also verifies that the builder
  * kept every node box the exact union of its entries. */
 #include <math.h>
@@ -8,6 +10,7 @@
 
 #include "accel/rtree/rtc.h"
 #include "accel/rtree/rtree_box.h"
+#include "accel/rtree/build/rtree_bulk.h"
 
 _Static_assert(TT_RT_MAX_M <= 16 && TT_TRI_BLOCK_W == 8,
                "a leaf reference holds a lane in a block (3 bits) and count - 1 (4 bits)");
@@ -126,18 +129,13 @@ static uint32_t put_leaf(packer *pk, const uint32_t *ids, uint32_t count)
                            (uint32_t)(first % TT_TRI_BLOCK_W), count);
 }
 
-tt_status rtc_pack(tt_context *ctx, const rt_builder *b, const float *scene_tri, rtc_tree *t)
+/* Checks the tree's size against the layout's limits and allocates the
+ * records and the blocks (every lane unused until a leaf takes it). */
+static tt_status layout_alloc(tt_context *ctx, rtc_tree *t, uint32_t M, uint32_t height,
+                              uint64_t nodes, uint64_t blocks, uint32_t triangles,
+                              float **node_out, tt_tri_block **block_out)
 {
     tt_rtc *c = &t->c;
-    memset(c, 0, sizeof *c);
-    const uint32_t M = (uint32_t)b->M;
-    const rt_node_hdr *root = &b->hdr[b->root];
-    uint64_t nodes = 0;
-    lanes_fill fill = {0, 0};
-    count_tree(b, b->root, &nodes, &fill);
-    const uint64_t blocks = fill.blocks;
-    if (root->level == 0) nodes = 1; /* a leaf root gets a node above it */
-    const uint32_t height = root->level == 0 ? 1u : root->level;
     if (height * M > TT_RTC_STACK_SIZE || height > 255)
         return tt_error(ctx, TT_ERR_UNSUPPORTED,
                         "rtree compact layout: the tree has %u levels of %u entries; the "
@@ -152,7 +150,7 @@ tt_status rtc_pack(tt_context *ctx, const rt_builder *b, const float *scene_tri,
     c->words = tt_rtc_words(M);
     c->nodes = (uint32_t)nodes;
     c->blocks = (uint32_t)blocks;
-    c->triangles = b->triangles;
+    c->triangles = triangles;
     c->height = height;
     float *node = alloc_aligned(ctx, nodes, (size_t)c->words * sizeof(float), &t->node_mem);
     tt_tri_block *block = alloc_aligned(ctx, blocks, sizeof(tt_tri_block), &t->block_mem);
@@ -167,8 +165,27 @@ tt_status rtc_pack(tt_context *ctx, const rt_builder *b, const float *scene_tri,
             for (int q = 0; q < 9; q++) block[j].v[q][i] = NAN;
             block[j].prim[i] = TT_INVALID_ID;
         }
-    c->node = node;
-    c->block = block;
+    c->node = *node_out = node;
+    c->block = *block_out = block;
+    return TT_OK;
+}
+
+tt_status rtc_pack(tt_context *ctx, const rt_builder *b, const float *scene_tri, rtc_tree *t)
+{
+    tt_rtc *c = &t->c;
+    memset(c, 0, sizeof *c);
+    const uint32_t M = (uint32_t)b->M;
+    const rt_node_hdr *root = &b->hdr[b->root];
+    uint64_t nodes = 0;
+    lanes_fill fill = {0, 0};
+    count_tree(b, b->root, &nodes, &fill);
+    const uint64_t blocks = fill.blocks;
+    if (root->level == 0) nodes = 1; /* a leaf root gets a node above it */
+    const uint32_t height = root->level == 0 ? 1u : root->level;
+    float *node;
+    tt_tri_block *block;
+    tt_status st = layout_alloc(ctx, t, M, height, nodes, blocks, b->triangles, &node, &block);
+    if (st != TT_OK) return st;
     packer pk = {b, scene_tri, c, node, block, 1, {0, 0}};
 
     if (root->level == 0) {
@@ -213,6 +230,68 @@ tt_status rtc_pack(tt_context *ctx, const rt_builder *b, const float *scene_tri,
                 st_index[sp] = first + (uint32_t)i;
                 st_parent[sp++] = n;
             }
+        }
+    }
+    if (pk.next_node != c->nodes || pk.fill.blocks != c->blocks)
+        return tt_error(ctx, TT_ERR_INTERNAL,
+                        "rtree compact layout: wrote %u of %u nodes and %llu of %u blocks",
+                        pk.next_node, c->nodes, (unsigned long long)pk.fill.blocks, c->blocks);
+    return TT_OK;
+}
+
+/* The same walk as rtc_pack's over the level form: a node is (level,
+ * number on its level); its children are numbers first[l][j] .. first[l][j
+ * + 1] - 1 on the level below, whose boxes lie consecutively in box[l - 1]. */
+tt_status rtc_pack_levels(tt_context *ctx, const rt_bulk_levels *lv, const float *scene_tri,
+                          rtc_tree *t)
+{
+    tt_rtc *c = &t->c;
+    memset(c, 0, sizeof *c);
+    const uint32_t M = lv->M, L = lv->height;
+    if (L < 1 || L >= TT_RT_BUILD_LEVELS)
+        return tt_error(ctx, TT_ERR_INTERNAL, "rtree compact layout: level form of height %u", L);
+    uint64_t nodes = 0;
+    for (uint32_t l = 1; l <= L; l++) nodes += lv->count[l];
+    lanes_fill fill = {0, 0};
+    for (uint32_t j = 0; j < lv->count[0]; j++) /* leaves in depth-first order */
+        place_leaf(&fill, lv->first[0][j + 1] - lv->first[0][j]);
+    float *node;
+    tt_tri_block *block;
+    tt_status st = layout_alloc(ctx, t, M, L, nodes, fill.blocks, lv->triangles, &node, &block);
+    if (st != TT_OK) return st;
+    packer pk = {NULL, scene_tri, c, node, block, 1, {0, 0}};
+    const uint32_t S = c->S;
+    uint32_t st_level[TT_RT_BUILD_LEVELS * TT_RT_CAP], st_j[TT_RT_BUILD_LEVELS * TT_RT_CAP];
+    uint32_t st_index[TT_RT_BUILD_LEVELS * TT_RT_CAP], st_parent[TT_RT_BUILD_LEVELS * TT_RT_CAP];
+    int sp = 0;
+    st_level[sp] = L;
+    st_j[sp] = 0;
+    st_index[sp] = 0;
+    st_parent[sp++] = TT_INVALID_ID;
+    while (sp > 0) {
+        sp--;
+        const uint32_t l = st_level[sp], j = st_j[sp], n = st_index[sp];
+        const uint32_t c0 = lv->first[l][j], count = lv->first[l][j + 1] - c0;
+        float *rec = record_init(&pk, n, st_parent[sp], count, l);
+        uint32_t *ref = (uint32_t *)tt_rtc_child(c, rec);
+        const float *cb = lv->box[l - 1] + 6 * (size_t)c0;
+        for (uint32_t k = 0; k < 6; k++)
+            for (uint32_t i = 0; i < count; i++) rec[k * S + i] = cb[6 * i + k];
+        if (l == 1) {
+            for (uint32_t i = 0; i < count; i++) {
+                const uint32_t a = lv->first[0][c0 + i], e = lv->first[0][c0 + i + 1];
+                ref[i] = put_leaf(&pk, lv->order + a, e - a);
+            }
+            continue;
+        }
+        const uint32_t first = pk.next_node;
+        pk.next_node += count;
+        for (uint32_t i = 0; i < count; i++) ref[i] = first + i;
+        for (uint32_t i = count; i-- > 0;) {
+            st_level[sp] = l - 1;
+            st_j[sp] = c0 + i;
+            st_index[sp] = first + i;
+            st_parent[sp++] = n;
         }
     }
     if (pk.next_node != c->nodes || pk.fill.blocks != c->blocks)
