@@ -26,6 +26,13 @@
  * packer refuses a tree deeper than this allows. */
 #define TT_WBVH_STACK_SIZE 1280
 
+/* The structure's state (accel->impl): the records in the compact
+ * layout's owner, with its trace functions (wbvh_select). */
+typedef struct wbvh_tree {
+    rtc_tree t;
+    double build_s, pack_s;
+} wbvh_tree;
+
 /* The binary builder's tree (wbvh_build.c): node 0 the root. */
 typedef struct wbvh_bin_node {
     float box[6];   /* lo xyz, hi xyz: exact union of the content */
