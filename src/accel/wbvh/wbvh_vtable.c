@@ -6,7 +6,6 @@
  * kernel: the batch calls trace them ray by ray). */
 #include "accel/wbvh/wbvh.h"
 
-#include <stdlib.h>
 #include <string.h>
 
 #include "accel/rtree/build/rtree_bulk.h" /* rt_bulk_threads */
@@ -49,10 +48,11 @@ static tt_status wbvh_build(tt_accel *a)
         }
     }
     wbvh_bin_tree b;
-    uint32_t max_leaf = (uint32_t)M;
-    if (getenv("TT_WBVH_LEAF")) max_leaf = (uint32_t)atoi(getenv("TT_WBVH_LEAF")); /* EXPERIMENT */
+    /* leaves of up to M triangles (up to 2 blocks at M = 16): capped at
+     * one block (8), Sibenik and the bunny traced alike, the Cornell box
+     * 3-8% slower (notes/wbvh.md) */
     tt_status st =
-        wbvh_build_binary(a->ctx, tri_box, T, max_leaf, rt_bulk_threads(a->ctx), &b);
+        wbvh_build_binary(a->ctx, tri_box, T, (uint32_t)M, rt_bulk_threads(a->ctx), &b);
     tt_free(a->ctx, tri_box);
     const double t1 = tt_now();
     if (st == TT_OK) st = wbvh_pack(a->ctx, &b, scene->tri, T, (uint32_t)M, &w->t);
