@@ -67,6 +67,7 @@ static int parse_rtree(cli_args *a, cli_accel_args *x, const char *opt, const ch
         r->split = (tt_rtree_split)k;
     }
     if (!x->rtree_opt) x->rtree_opt = opt;
+    if (!x->rtree_opt_not_M && strcmp(opt, "--M") != 0) x->rtree_opt_not_M = opt;
     return st;
 }
 
@@ -170,9 +171,10 @@ int cli_accel_args_finish(const char *cmd, cli_accel_args *x)
     }
     x->build.accel = x->accel;
     int rtree = strcmp(x->accel, "rtree") == 0, kdtree = strcmp(x->accel, "kdtree") == 0;
-    if (x->rtree_opt && !rtree)
-        return cli_usage_error(cmd, "option %s applies to --accel rtree, not %s", x->rtree_opt,
-                               x->accel);
+    const int wbvh = strcmp(x->accel, "wbvh") == 0; /* takes --M (its width) */
+    if (wbvh ? x->rtree_opt_not_M != NULL : x->rtree_opt && !rtree)
+        return cli_usage_error(cmd, "option %s applies to --accel rtree, not %s",
+                               wbvh ? x->rtree_opt_not_M : x->rtree_opt, x->accel);
     if (x->embree_opt && strcmp(x->accel, "embree") != 0)
         return cli_usage_error(cmd, "option %s applies to --accel embree, not %s", x->embree_opt,
                                x->accel);
@@ -247,6 +249,8 @@ void cli_accel_args_emit(cli_emit *e, const tt_build_options *b)
         emit_str(e, "shadow_hint", shadow_hints[kd->shadow_caster_hint != 0]);
     } else if (strcmp(b->accel, "embree") == 0) {
         emit_str(e, "embree_quality", embree_qualities[b->embree.quality]);
+    } else if (strcmp(b->accel, "wbvh") == 0) {
+        emit_int(e, "M", b->rtree.M ? b->rtree.M : 16);
     }
 }
 
@@ -254,7 +258,8 @@ void cli_accel_args_help(FILE *out)
 {
     fprintf(out,
             "structure:\n"
-            "  --accel NAME             bruteforce, rtree, kdtree, embree (default: rtree if built)\n"
+            "  --accel NAME             bruteforce, rtree, kdtree, wbvh, embree (default: rtree if\n"
+            "                           built; wbvh: the wide BVH, takes --M)\n"
             "  --isa NAME               SIMD kernels: auto|scalar|sse4.2|avx2|avx512 (default\n"
             "                           auto: the best this CPU runs; output key isa)\n"
             "  --traversal NAME         rtree: auto|stackless|ordered|stack (default auto);\n"

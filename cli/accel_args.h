@@ -13,6 +13,7 @@ typedef struct cli_accel_args {
     const char *accel;     /* as given; NULL: the default                      */
     const char *traversal; /* as given; resolved once the structure is known  */
     const char *rtree_opt; /* the first R-tree option given, for messages     */
+    const char *rtree_opt_not_M; /* the first other than --M (wbvh takes --M)  */
     const char *kd_opt;    /* the first kd-tree option given                  */
     const char *embree_opt; /* the Embree option given                        */
     const char *insert_opt; /* the first insertion-only R-tree option given  */

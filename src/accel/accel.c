@@ -11,6 +11,7 @@ static const tt_accel_vtable *const registry[] = {
     &tt_bruteforce_vtable,
     &tt_rtree_vtable,
     &tt_kdtree_vtable,
+    &tt_wbvh_vtable,
 #ifdef TT_HAVE_EMBREE
     &tt_embree_vtable,
 #endif

@@ -131,6 +131,7 @@ void tt_accel_trace_leave(const tt_accel *accel);
 extern const tt_accel_vtable tt_bruteforce_vtable;
 extern const tt_accel_vtable tt_rtree_vtable;
 extern const tt_accel_vtable tt_kdtree_vtable;
+extern const tt_accel_vtable tt_wbvh_vtable;
 #ifdef TT_HAVE_EMBREE
 extern const tt_accel_vtable tt_embree_vtable;
 #endif

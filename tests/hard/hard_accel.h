@@ -181,6 +181,21 @@ static inline size_t hard_variants(const char *name, hard_variant *v)
                      hard_kd_traversal_names[t]);
             hard_push(v, &n, &k, label);
         }
+    } else if (strcmp(name, "wbvh") == 0) {
+        /* the wide BVH: every ISA this CPU runs at M = 16, and M = 4, 8 */
+        for (int i = TT_ISA_SCALAR; i <= TT_ISA_AVX512; i++) {
+            if (!tt_test_isa_runs((tt_isa)i)) continue;
+            tt_build_options w = o;
+            w.isa = (tt_isa)i;
+            snprintf(label, sizeof label, "wbvh M=16 isa=%s", tt_isa_name((tt_isa)i));
+            hard_push(v, &n, &w, label);
+        }
+        for (int M = 4; M <= 8; M += 4) {
+            tt_build_options w = o;
+            w.rtree.M = M;
+            snprintf(label, sizeof label, "wbvh M=%d", M);
+            hard_push(v, &n, &w, label);
+        }
     } else {
         hard_push(v, &n, &o, name);
     }

@@ -17,6 +17,10 @@
  *     id exactly once, its lanes the scene's vertices (NaN for a zero-area
  *     triangle, as tt_tri_block_pack writes them); lanes of no leaf NaN
  *     with no id.
+ * Mixed records (the wide BVH's, wbvh/wbvh.h: the root's level field 0):
+ * every record says level 0 and lies at most `height` records deep; its
+ * leaf entries come first, its node entries after them (consecutive nodes
+ * after it), and the leaf span rule of 4 holds for its leaves.
  */
 #include <math.h>
 #include <string.h>
@@ -31,6 +35,7 @@ typedef struct walk {
     uint8_t *reached; /* per node */
     uint8_t *seen;    /* per triangle id */
     uint8_t *lane_owned; /* per triangle lane of the blocks */
+    int mixed;           /* mixed records: levels count down the depth left */
 } walk;
 
 #define FAIL(...) tt_error(w->ctx, TT_ERR_INVARIANT, __VA_ARGS__)
@@ -110,9 +115,9 @@ static tt_status check_node(walk *w, uint32_t n, uint32_t l, uint32_t parent, fl
     const float *rec = tt_rtc_node(c, n);
     const uint32_t *ref = tt_rtc_child(c, rec);
     const uint32_t cnt = tt_rtc_count(c, rec), is_root = n == 0;
-    if (tt_rtc_level(c, rec) != l)
-        return FAIL("rtree compact: node %u says level %u, its place in the tree is level %u", n,
-                    tt_rtc_level(c, rec), l);
+    if (w->mixed ? tt_rtc_level(c, rec) != 0 || l == 0 : tt_rtc_level(c, rec) != l)
+        return FAIL("rtree compact: node %u says level %u, its place in the tree is level %u%s",
+                    n, tt_rtc_level(c, rec), l, w->mixed ? " (mixed records: 0, depth left)" : "");
     if (tt_rtc_parent(c, rec) != parent)
         return FAIL("rtree compact: node %u links to parent %u, its parent is %u", n,
                     tt_rtc_parent(c, rec), parent);
@@ -122,14 +127,17 @@ static tt_status check_node(walk *w, uint32_t n, uint32_t l, uint32_t parent, fl
                     is_root ? "root" : "node", n, l, cnt, lo, c->M);
     /* the stack traversal's per-node block set needs the first leaf's
      * block lowest and every other within 2 M blocks of it */
-    for (uint32_t i = 0; l == 1 && i < cnt; i++)
+    uint32_t leaves = l == 1 ? cnt : 0; /* the leading leaf entries */
+    if (w->mixed)
+        while (leaves < cnt && tt_rtc_is_leaf(ref[leaves])) leaves++;
+    for (uint32_t i = 0; i < leaves; i++)
         if (tt_rtc_leaf_block(ref[i]) < tt_rtc_leaf_block(ref[0]) ||
             tt_rtc_leaf_block(ref[i]) - tt_rtc_leaf_block(ref[0]) + 2 > 2 * c->M)
             return FAIL("rtree compact: leaf %u of node %u starts at block %u, outside the "
                         "node's span from block %u", i, n, tt_rtc_leaf_block(ref[i]),
                         tt_rtc_leaf_block(ref[0]));
-    for (uint32_t i = 0; l > 1 && i < cnt; i++)
-        if (tt_rtc_is_leaf(ref[i]) || ref[i] != ref[0] + i || ref[0] <= n)
+    for (uint32_t i = leaves; i < cnt; i++)
+        if (tt_rtc_is_leaf(ref[i]) || ref[i] != ref[leaves] + i - leaves || ref[leaves] <= n)
             return FAIL("rtree compact: the children of node %u are not consecutive nodes "
                         "after it (entry %u is node %u)", n, i, ref[i]);
     rt_box_empty(box);
@@ -146,7 +154,7 @@ static tt_status check_node(walk *w, uint32_t n, uint32_t l, uint32_t parent, fl
             return FAIL("rtree compact: entry %u of node %u has no valid box", i, n);
         float content[6];
         tt_status st;
-        if (l == 1) {
+        if (w->mixed ? i < leaves : l == 1) {
             st = check_leaf(w, n, i, ref[i], is_root && cnt == 1, content);
         } else {
             st = check_node(w, ref[i], l - 1, n, content);
@@ -163,7 +171,7 @@ static tt_status check_node(walk *w, uint32_t n, uint32_t l, uint32_t parent, fl
 tt_status rtc_check(tt_context *ctx, const rtc_tree *t, const tt_scene *scene)
 {
     const tt_rtc *c = &t->c;
-    walk w = {ctx, t, scene, NULL, NULL, NULL};
+    walk w = {ctx, t, scene, NULL, NULL, NULL, 0};
     /* a tree updated in place holds the live triangles; a built one every
      * id slot (removed ones as points, io/scene.h) */
     if (c->triangles > scene->triangle_count || c->triangles < tt_scene_live_triangle_count(scene))
@@ -182,6 +190,7 @@ tt_status rtc_check(tt_context *ctx, const rtc_tree *t, const tt_scene *scene)
     if (!w.reached || !w.seen || !w.lane_owned)
         st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree compact check: out of memory");
     float root[6];
+    w.mixed = c->nodes > 0 && tt_rtc_level(c, tt_rtc_node(c, 0)) == 0;
     if (st == TT_OK) st = check_node(&w, 0, c->height, TT_INVALID_ID, root);
     for (uint32_t n = 0; st == TT_OK && n < c->nodes; n++)
         if (!w.reached[n])

@@ -5,22 +5,7 @@
 
 #define RTC_ISA _scalar
 
-typedef struct rtc_lanes {
-    const tt_wray *r;
-} rtc_lanes;
-
-static inline void rtc_lanes_init(rtc_lanes *s, const tt_wray *r) { s->r = r; }
-
-static inline uint32_t rtc_group_test(const rtc_lanes *s, const tt_rt_planes *p, const float *rec,
-                                      uint32_t S, float tmax, float *out)
-{
-    uint32_t mask = 0;
-    for (uint32_t i = 0; i < S; i++) {
-        out[i] = tt_rt_box_test_at(s->r, p, rec + i, tmax);
-        mask |= (uint32_t)(out[i] < tmax) << i;
-    }
-    return mask;
-}
+#include "accel/rtree/trace/rtc_box_scalar.h"
 
 #define RTC_BLOCKS_INTERSECT tt_tri_blocks_intersect_scalar
 #define RTC_BLOCKS_OCCLUDED tt_tri_blocks_occluded_scalar

@@ -121,8 +121,10 @@ done:
 }
 
 /* The entry point: specialised for S = 4, 8, 16 (the group test's loops
- * and offsets fold) and for closest hit / occlusion. */
-int TT_VARIANT(RTC_FN(tt_rtc_stack))(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,
+ * and offsets fold) and for closest hit / occlusion. Flattened, or GCC
+ * keeps rtc_group_test out of line with S a run-time argument (perf on
+ * Sibenik: 31% of the time in that call; wbvh/wbvh_trace.h). */
+__attribute__((flatten)) int TT_VARIANT(RTC_FN(tt_rtc_stack))(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,
                                      tt_ray_stats *stats)
 {
     switch (t->S) {

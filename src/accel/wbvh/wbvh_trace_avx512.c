@@ -1,0 +1,19 @@
+/* The wide BVH's traversal with the child boxes tested by AVX512
+ * instructions (rtree/trace/rtc_box_x86.h; compiled with that ISA's flags,
+ * run only where tt_isa_supported says so). */
+#include "accel/wbvh/wbvh.h"
+#include "accel/rtree/trace/rtc_box_x86.h"
+#include "geometry/tri_block_avx512.h"
+
+#define RTC_ISA _avx512
+
+#define RTC_BLOCKS_INTERSECT tt_tri_blocks_intersect_avx512
+#define RTC_BLOCKS_OCCLUDED tt_tri_blocks_occluded_avx512
+
+#define TT_STATS 0
+#include "accel/stats_variant.h"
+#include "accel/wbvh/wbvh_trace.h"
+#undef TT_STATS
+#define TT_STATS 1
+#include "accel/stats_variant.h"
+#include "accel/wbvh/wbvh_trace.h"
