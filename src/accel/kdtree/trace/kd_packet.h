@@ -20,7 +20,7 @@
  *    KP_MIN_RAYS rays, and every ray with a zero direction component (HTR's
  *    general loop, with per-plane rounding bands), go ray by ray through
  *    the single-ray kernel of the unit.
- *  - A group is cut into walks of KP_RAYS rays (KP_RAYS / PK_L vectors),
+ *  - A group is cut into walks of KP_RAYS rays (KP_K vectors),
  *    after ordering its rays along a Morton curve of their sheared
  *    directions (sx, sy), so a walk's rays are neighbours whatever order
  *    the caller gave them in (a tile comes row by row).
@@ -56,11 +56,16 @@
 
 #define KP_N TT_PACKET_MAX
 #define KP_V (KP_N / PK_L) /* vectors of a whole packet */
-/* Rays per walk: a multiple of PK_L. */
-#ifndef KP_RAYS
-#define KP_RAYS 16u
+/* Vectors per walk: two (16 rays for AVX2, 32 for AVX-512) measured best;
+ * AVX-512 with one (16 rays) was 10-25% slower, with four (64) 5-25%
+ * slower (bunny, sibenik, conference, 1 thread, CPU time). */
+#ifndef KP_K
+#define KP_K 2u
 #endif
-#define KP_K (KP_RAYS / PK_L) /* vectors per walk */
+#define KP_RAYS (KP_K * PK_L) /* rays per walk */
+/* (Finishing a walk's subtree ray by ray once one ray is left in it, with
+ * scalar steps, measured level with the vector steps; two or three rays
+ * left measured 5-10% slower: not kept.) */
 /* Groups with fewer rays go ray by ray. */
 #ifndef KP_MIN_RAYS
 #define KP_MIN_RAYS 4u
