@@ -20,10 +20,13 @@
  *    KP_MIN_RAYS rays, and every ray with a zero direction component (HTR's
  *    general loop, with per-plane rounding bands), go ray by ray through
  *    the single-ray kernel of the unit.
- *  - A group is cut into walks of KP_RAYS rays (KP_K vectors),
- *    after ordering its rays along a Morton curve of their sheared
- *    directions (sx, sy), so a walk's rays are neighbours whatever order
- *    the caller gave them in (a tile comes row by row).
+ *  - A group is cut into walks of KP_RAYS rays (KP_K vectors) in the
+ *    caller's order (a tile's rows: a walk is one row of 16 for AVX2, two
+ *    for AVX-512).
+ *    Reordering a group along a Morton curve of its rays' (sx, sy) made
+ *    walks of 4 x 4 / 8 x 4 rays, which visited more nodes with fewer
+ *    active lanes on bunny, sibenik and conference (the counting variant:
+ *    13.1 vs 15.2 lanes a visit, bunny primary), so the order is kept.
  *  - Per lane, the single-ray HTR's arithmetic exactly (kd_trace_htr.h,
  *    tt_kd_htr_moving): the root interval with rounding bands (kd_ray.h),
  *    the per-axis band e_k, ts = (split - o_k) inv_k, lo / hi = ts -+ e_k,
@@ -50,8 +53,6 @@
 #include "accel/kdtree/trace/kd_ray.h"
 #include "accel/kdtree/trace/kd_best.h"
 #include "geometry/triangle.h"
-
-#include <string.h>
 
 #ifndef KD_PACKET_TYPES
 #define KD_PACKET_TYPES
@@ -103,13 +104,6 @@ typedef struct kp_rays {
 
 static inline uint32_t kp_popcount(uint32_t x) { return (uint32_t)__builtin_popcount(x); }
 
-/* 4 bits of x spread to the even bits of 8. */
-static inline uint32_t kp_spread4(uint32_t x)
-{
-    x = (x | x << 2) & 0x33u;
-    x = (x | x << 1) & 0x55u;
-    return x;
-}
 #endif
 
 /* A deferred far child with its lanes and their intervals. */
@@ -337,40 +331,10 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_walk))(const tt_kd_view *T, kp_rays *P, uint3
     }
 }
 
-/* Loads the group's rays idx[0..n) into P, its walks' neighbours next to
- * each other (Morton order of sx, sy). */
+/* Loads the group's rays idx[0..n) into P, in the caller's order. */
 KP_INLINE void TT_VARIANT(KD_FN(kp_load))(const tt_kd_view *T, kp_rays *P,
-                                             const tt_wray *rays, uint16_t *idx, uint32_t n)
+                                             const tt_wray *rays, const uint16_t *idx, uint32_t n)
 {
-    if (n > KP_RAYS) {
-        float lo[2] = {TT_INF, TT_INF}, hi[2] = {-TT_INF, -TT_INF};
-        for (uint32_t i = 0; i < n; i++) {
-            const tt_wray *r = &rays[idx[i]];
-            lo[0] = tt_kd_min(lo[0], r->sx);
-            hi[0] = tt_kd_max(hi[0], r->sx);
-            lo[1] = tt_kd_min(lo[1], r->sy);
-            hi[1] = tt_kd_max(hi[1], r->sy);
-        }
-        /* a 16 x 16 grid over the group's (sx, sy), cells in Morton order
-         * (a tile's rays about one a cell), by one counting sort: an
-         * insertion sort of finer keys took a third of the packet's time */
-        const float s0 = hi[0] > lo[0] ? 15.99f / (hi[0] - lo[0]) : 0.0f;
-        const float s1 = hi[1] > lo[1] ? 15.99f / (hi[1] - lo[1]) : 0.0f;
-        uint8_t key[KP_N];
-        uint16_t start[257], tmp[KP_N];
-        memset(start, 0, sizeof start);
-        for (uint32_t i = 0; i < n; i++) {
-            const tt_wray *r = &rays[idx[i]];
-            float q0 = (r->sx - lo[0]) * s0, q1 = (r->sy - lo[1]) * s1;
-            q0 = q0 >= 0.0f && q0 <= 15.0f ? q0 : 0.0f;
-            q1 = q1 >= 0.0f && q1 <= 15.0f ? q1 : 0.0f;
-            key[i] = (uint8_t)(kp_spread4((uint32_t)q0) | kp_spread4((uint32_t)q1) << 1);
-            start[key[i] + 1]++;
-        }
-        for (uint32_t c = 0; c < 256; c++) start[c + 1] = (uint16_t)(start[c + 1] + start[c]);
-        for (uint32_t i = 0; i < n; i++) tmp[start[key[i]]++] = idx[i];
-        memcpy(idx, tmp, n * sizeof *idx);
-    }
     const tt_wray *r0 = &rays[idx[0]];
     P->n = n;
     /* whole walks: lanes past n repeat the first ray, never live */
