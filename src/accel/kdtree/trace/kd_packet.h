@@ -171,6 +171,10 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint3
                 PK_MOR(PK_MOR(PK_CMP_LT(U, zero), PK_CMP_LT(V, zero)), PK_CMP_LT(W, zero));
             const pk_m pos =
                 PK_MOR(PK_MOR(PK_CMP_GT(U, zero), PK_CMP_GT(V, zero)), PK_CMP_GT(W, zero));
+            /* most lanes miss most triangles on the edge functions: skip
+             * the division when every active lane does */
+            const uint32_t inside = ~PK_BITS(PK_MAND(neg, pos)) & mm & ~zl;
+            if (!(inside | zl)) continue;
             const pk_v det = PK_ADD(PK_ADD(U, V), W);
             const pk_v Tv = PK_ADD(PK_ADD(PK_MUL(U, PK_MUL(sz, az)), PK_MUL(V, PK_MUL(sz, bz))),
                                    PK_MUL(W, PK_MUL(sz, cz)));
@@ -178,7 +182,7 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint3
             const pk_v tt = PK_MUL(Tv, inv_det);
             const pk_m ok = PK_MAND(PK_MAND(PK_CMP_NEQ(det, zero), PK_CMP_GE(tt, tmin)),
                                     PK_CMP_LT(tt, bt));
-            uint32_t acc = PK_BITS(PK_MANDNOT(PK_MAND(neg, pos), ok)) & mm & ~zl;
+            uint32_t acc = PK_BITS(ok) & inside;
             if (!(acc | zl)) continue;
             /* tt_intersect_triangle's zero-area refusal (a property of the
              * triangle: the same floats whichever lane asks) */
