@@ -109,6 +109,14 @@ static void kd_packet(const tt_accel *a, const tt_wray *rays, uint32_t n, int an
         }
     }
 }
+/* Packets pay only with the kernel, which is HTR's: BTR, SLTR and SEQ stay
+ * ray by ray in the batch calls and the renderer, where they take start and
+ * caster hints (the packet entries have none). */
+static int kd_packets_for(const tt_accel *a)
+{
+    const int trav = a->options.kdtree.traversal;
+    return trav != TT_KD_BTR && trav != TT_KD_SLTR && trav != TT_KD_SEQ;
+}
 static void kd_intersect_packet(const tt_accel *a, const tt_wray *rays, uint32_t n, tt_hit *hits)
 {
     kd_packet(a, rays, n, 0, hits, NULL, NULL);
@@ -176,6 +184,7 @@ const tt_accel_vtable tt_kdtree_vtable = {
     .occluded_packet = kd_occluded_packet,
     .intersect_packet_stats = kd_intersect_packet_stats,
     .occluded_packet_stats = kd_occluded_packet_stats,
+    .packets_for = kd_packets_for,
     .locate = kd_locate,
     .check = kd_check,
     .statistics = kd_statistics,
