@@ -5,5 +5,6 @@
 
 int yard_packets_offered(const tt_accel *accel)
 {
-    return accel && accel->vt && (accel->vt->intersect_packet || accel->vt->occluded_packet);
+    return accel && accel->vt && (accel->vt->intersect_packet || accel->vt->occluded_packet) &&
+           (!accel->vt->packets_for || accel->vt->packets_for(accel));
 }

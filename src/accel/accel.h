@@ -73,6 +73,11 @@ typedef struct tt_accel_vtable {
                                    tt_hit *hits, tt_packet_stats *stats);
     void (*occluded_packet_stats)(const tt_accel *accel, const tt_wray *rays, uint32_t n,
                                   uint8_t *occluded, tt_packet_stats *stats);
+    /* Optional (NULL: yes): whether the batch calls and the renderer should
+     * use the packet entries for this structure's options; 0 keeps them ray
+     * by ray, with their start and caster hints (a kd-tree traversal that
+     * uses hints and has no packet kernel). */
+    int (*packets_for)(const tt_accel *accel);
     /* Optional (NULL: TT_INVALID_ID): start hint for rays from point p. */
     uint32_t (*locate)(const tt_accel *accel, const float *p);
     /* Verifies the invariants; on failure reports through tt_error on

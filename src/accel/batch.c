@@ -164,9 +164,11 @@ static tt_status check_call(const tt_accel *accel, const tt_batch_options *o, co
  * the option allows them. A start hint only speeds a single ray's walk (the
  * answer is the closest hit either way, ties included: the smaller id
  * wins), so packets, which start at the root, ignore it. */
-static int packets_allowed(const tt_accel_vtable *vt, const tt_batch_options *o, int closest)
+static int packets_allowed(const tt_accel *accel, const tt_accel_vtable *vt,
+                           const tt_batch_options *o, int closest)
 {
     if (o->packets == TT_PACKETS_OFF) return 0;
+    if (vt->packets_for && !vt->packets_for(accel)) return 0;
     return closest ? vt->intersect_packet != NULL : vt->occluded_packet != NULL;
 }
 
@@ -190,7 +192,7 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
     const tt_batch_options *o = options ? options : &def;
     const tt_accel_vtable *vt = accel->vt;
     const int threads = threads_of(accel);
-    const int use_packets = packets_allowed(vt, o, hits != NULL);
+    const int use_packets = packets_allowed(accel, vt, o, hits != NULL);
     tt_status entered = tt_accel_trace_enter(accel, call);
     if (entered != TT_OK) return entered;
     plan p;

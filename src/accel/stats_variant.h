@@ -21,6 +21,7 @@
  *   rtree/trace/rtc_trace_stackless.h  tt_rtc_stackless
  *   kdtree/trace/kd_trace.h            tt_kd_intersect, tt_kd_occluded (over tt_kd_trace,
  *                                   tt_kd_htr, tt_kd_btr, tt_kd_stackless and their steps)
+ *   kdtree/trace/kd_packet.h           tt_kd_packet_<isa> (KD_FN adds the ISA)
  *   render/trace_tile.h             primary_tile, shadow_tile
  *   cuda/gpu_pixel_*.h              tt_gpu_rt_*, tt_gpu_rtc_*, tt_gpu_kd_* (device code) */
 #undef TT_COUNT

@@ -186,8 +186,10 @@ static void init_frame(tt_context *ctx, const tt_scene *scene, const tt_accel *a
                      accel->options.kdtree.shadow_caster_hint;
     /* packets where the structure has them (the caster hint is a per-ray
      * chain through a tile's shadow rays: those stay single rays) */
-    f->packets = accel->vt->intersect_packet && accel->vt->occluded_packet ? o->packets
-                                                                           : TT_PACKETS_OFF;
+    f->packets = accel->vt->intersect_packet && accel->vt->occluded_packet &&
+                         (!accel->vt->packets_for || accel->vt->packets_for(accel))
+                     ? o->packets
+                     : TT_PACKETS_OFF;
     /* one point location for all primary rays (they share the eye) */
     f->eye_hint = accel->vt->locate ? accel->vt->locate(accel, camera->eye) : TT_INVALID_ID;
 }

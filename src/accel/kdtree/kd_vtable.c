@@ -4,6 +4,7 @@
 #include "accel/kdtree/kd_io.h"
 
 #include "accel/kdtree/trace/kd_trace_cpu.h"
+#include "accel/kdtree/trace/kd_packet_cpu.h"
 
 int tt_kdtree_dmin(const tt_kdtree_options *o)
 {
@@ -81,6 +82,60 @@ static int kd_occluded_stats(const tt_accel *a, const tt_wray *r, tt_trace_args 
     return o;
 }
 
+/* Packets (kd_packet.h): the ISA's packet kernel for HTR (the default
+ * traversal); other traversals and ISAs without a kernel trace the rays
+ * one by one through the single-ray entries, so the answers are the same
+ * either way. */
+static void kd_packet(const tt_accel *a, const tt_wray *rays, uint32_t n, int any, tt_hit *hits,
+                      uint8_t *occ, tt_packet_stats *stats)
+{
+    const int trav = a->options.kdtree.traversal;
+    const tt_kd_packet_fn fn =
+        (trav != TT_KD_BTR && trav != TT_KD_SLTR && trav != TT_KD_SEQ)
+            ? tt_kd_packet_kernel(a->isa, stats != NULL)
+            : NULL;
+    if (fn) {
+        fn(&tree(a)->view, rays, n, any, hits, occ, stats);
+        return;
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        if (stats) {
+            stats->fallback_rays++;
+            if (any) occ[i] = (uint8_t)(kd_occluded_stats(a, &rays[i], NULL, &stats->rays) != 0);
+            else kd_intersect_stats(a, &rays[i], &hits[i], NULL, &stats->rays);
+        } else {
+            if (any) occ[i] = (uint8_t)(kd_occluded(a, &rays[i], NULL) != 0);
+            else kd_intersect(a, &rays[i], &hits[i], NULL);
+        }
+    }
+}
+/* Packets pay only with the kernel, which is HTR's: BTR, SLTR and SEQ stay
+ * ray by ray in the batch calls and the renderer, where they take start and
+ * caster hints (the packet entries have none). */
+static int kd_packets_for(const tt_accel *a)
+{
+    const int trav = a->options.kdtree.traversal;
+    return trav != TT_KD_BTR && trav != TT_KD_SLTR && trav != TT_KD_SEQ;
+}
+static void kd_intersect_packet(const tt_accel *a, const tt_wray *rays, uint32_t n, tt_hit *hits)
+{
+    kd_packet(a, rays, n, 0, hits, NULL, NULL);
+}
+static void kd_occluded_packet(const tt_accel *a, const tt_wray *rays, uint32_t n, uint8_t *occ)
+{
+    kd_packet(a, rays, n, 1, NULL, occ, NULL);
+}
+static void kd_intersect_packet_stats(const tt_accel *a, const tt_wray *rays, uint32_t n,
+                                      tt_hit *hits, tt_packet_stats *stats)
+{
+    kd_packet(a, rays, n, 0, hits, NULL, stats);
+}
+static void kd_occluded_packet_stats(const tt_accel *a, const tt_wray *rays, uint32_t n,
+                                     uint8_t *occ, tt_packet_stats *stats)
+{
+    kd_packet(a, rays, n, 1, NULL, occ, stats);
+}
+
 static uint32_t kd_locate(const tt_accel *a, const float *p) { return tt_kdtree_locate(tree(a), p); }
 
 static tt_status kd_check(const tt_accel *a) { return tt_kdtree_check(a->ctx, a->scene, tree(a)); }
@@ -125,6 +180,11 @@ const tt_accel_vtable tt_kdtree_vtable = {
     .occluded = kd_occluded,
     .intersect_stats = kd_intersect_stats,
     .occluded_stats = kd_occluded_stats,
+    .intersect_packet = kd_intersect_packet,
+    .occluded_packet = kd_occluded_packet,
+    .intersect_packet_stats = kd_intersect_packet_stats,
+    .occluded_packet_stats = kd_occluded_packet_stats,
+    .packets_for = kd_packets_for,
     .locate = kd_locate,
     .check = kd_check,
     .statistics = kd_statistics,

@@ -1,0 +1,455 @@
+/* Packet traversal of the kd-tree (HTR, kd_trace_htr.h): up to
+ * TT_PACKET_MAX rays (a batch's 16 x 16 tile) traced together, SIMD across
+ * rays (PK_L = 8 lanes for AVX2, 16 for AVX-512), a template compiled once
+ * per ISA unit (kd_packet_avx2.c, _avx512.c) and once per statistics
+ * variant (accel/stats_variant.h).
+ *
+ * Method: coherent ray tracing of kd-trees (Wald, Slusallek, Benthin &
+ * Wagner 2001, "Interactive rendering with coherent ray tracing": the rays
+ * of a packet share the traversal order, each keeps its own [tnear, tfar],
+ * a node is descended near child first, the far child pushed with the
+ * per-ray intervals, rays whose interval is empty go inactive); the
+ * packet is split into groups of one direction octant first, as Reshetov,
+ * Soupikov & Hurley 2005 (MLRTA) require of a packet sharing one traversal
+ * order.
+ *  - Groups: the rays of one direction octant AND one dominant axis kz.
+ *    The octant fixes the near child of every split for the whole group;
+ *    the dominant axis (with the octant) fixes the watertight test's axis
+ *    permutation (kx, ky, kz: tt_wray_init), so a leaf's triangle test is
+ *    straight-line SIMD code for the whole group. A group of fewer than
+ *    KP_MIN_RAYS rays, and every ray with a zero direction component (HTR's
+ *    general loop, with per-plane rounding bands), go ray by ray through
+ *    the single-ray kernel of the unit.
+ *  - A group is cut into walks of KP_RAYS rays (KP_K vectors) in the
+ *    caller's order (a tile's rows: a walk is one row of 16 for AVX2, two
+ *    for AVX-512).
+ *    Reordering a group along a Morton curve of its rays' (sx, sy) made
+ *    walks of 4 x 4 / 8 x 4 rays, which visited more nodes with fewer
+ *    active lanes on bunny, sibenik and conference (the counting variant:
+ *    13.1 vs 15.2 lanes a visit, bunny primary), so the order is kept.
+ *  - Per lane, the single-ray HTR's arithmetic exactly (kd_trace_htr.h,
+ *    tt_kd_htr_moving): the root interval with rounding bands (kd_ray.h),
+ *    the per-axis band e_k, ts = (split - o_k) inv_k, lo / hi = ts -+ e_k,
+ *    the near child on [ta, min(tb, hi)] unless hi < ta, the far child on
+ *    [max(ta, lo), tb] unless lo > tb; a popped entry drops the lanes whose
+ *    ta >= their closest hit so far. The packet visits a node when any of
+ *    its lanes does, depth first and near first, so every lane meets its
+ *    leaves in the single ray's order (the visits of the other lanes are
+ *    invisible to it).
+ *  - Leaves: each triangle in reference order against the active lanes,
+ *    tt_intersect_triangle's float operations in its order (the unit is
+ *    compiled without FMA contraction), a lane's best replaced only by a
+ *    strictly nearer hit, a lane with a zero edge function recomputed by
+ *    tt_intersect_triangle itself. That is the scalar leaf loop of
+ *    kd_best.h lane by lane (and the gathered kernel gives the same), so
+ *    with the same leaves in the same order every ray gets the single-ray
+ *    triangle, t, u and v bit for bit.
+ *  - Occlusion: a lane is retired at its first hit; the walk ends when no
+ *    lane of it is left.
+ *
+ * The including unit defines PK_L, the vector macros PK_* (see
+ * kd_packet_avx512.c), KD_FN (adds the ISA to a name), KD_SINGLE_INTERSECT
+ * / KD_SINGLE_OCCLUDED (the unit's fast single-ray entry points). */
+#include "accel/kdtree/trace/kd_ray.h"
+#include "accel/kdtree/trace/kd_best.h"
+#include "geometry/triangle.h"
+
+#ifndef KD_PACKET_TYPES
+#define KD_PACKET_TYPES
+
+#define KP_N TT_PACKET_MAX
+#define KP_V (KP_N / PK_L) /* vectors of a whole packet */
+/* Vectors per walk: two (16 rays for AVX2, 32 for AVX-512) measured best;
+ * AVX-512 with one (16 rays) was 10-25% slower, with four (64) 5-25%
+ * slower (bunny, sibenik, conference, 1 thread, CPU time). */
+#ifndef KP_K
+#define KP_K 2u
+#endif
+#define KP_RAYS (KP_K * PK_L) /* rays per walk */
+/* (Finishing a walk's subtree ray by ray once one ray is left in it, with
+ * scalar steps, measured level with the vector steps; two or three rays
+ * left measured 5-10% slower: not kept.) */
+/* Groups with fewer rays go ray by ray. */
+#ifndef KP_MIN_RAYS
+#define KP_MIN_RAYS 4u
+#endif
+/* The 24 groups: octant * 3 + kz. */
+#define KP_GROUPS 24u
+
+/* One group's rays, structure of arrays; lanes past n repeat its first ray
+ * and are never live. */
+typedef struct kp_rays {
+    _Alignas(64) float o[3][KP_N];
+    _Alignas(64) float inv[3][KP_N];
+    _Alignas(64) float e[3][KP_N];
+    _Alignas(64) float ta[KP_N];
+    _Alignas(64) float tb[KP_N];
+    _Alignas(64) float tmin[KP_N];
+    _Alignas(64) float t[KP_N];
+    _Alignas(64) float u[KP_N];
+    _Alignas(64) float v[KP_N];
+    _Alignas(64) float sx[KP_N];
+    _Alignas(64) float sy[KP_N];
+    _Alignas(64) float sz[KP_N];
+    _Alignas(64) uint32_t prim[KP_N];
+    const tt_wray *ray[KP_N];
+    uint32_t live[KP_V]; /* lanes whose ray meets the scene box           */
+    uint32_t done[KP_V]; /* occlusion: lanes answered                     */
+    uint32_t n, vecs;
+    int kx, ky, kz;
+    int down[3]; /* the group's direction signs: dir_k < 0               */
+} kp_rays;
+
+#define KP_INLINE static inline __attribute__((always_inline))
+
+static inline uint32_t kp_popcount(uint32_t x) { return (uint32_t)__builtin_popcount(x); }
+
+#endif
+
+/* A deferred far child with its lanes and their intervals. */
+#ifndef KP_ENTRY_DEFINED
+#define KP_ENTRY_DEFINED
+typedef struct kp_entry {
+    pk_v ta[KP_K], tb[KP_K];
+    uint32_t m[KP_K];
+    uint32_t node;
+} kp_entry;
+#endif
+
+/* A leaf's triangles against lanes m[] of the walk at vector v0. */
+KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint32_t v0,
+                                             const uint32_t *m, tt_kd_node leaf, const int any,
+                                             tt_packet_stats *stats)
+{
+    const uint32_t count = tt_kd_leaf_count(leaf.bits);
+    const uint32_t *refs = T->refs + leaf.u.first;
+    (void)stats;
+#if TT_STATS
+    {
+        uint64_t act = 0;
+        for (uint32_t j = 0; j < KP_K; j++) act += kp_popcount(m[j]);
+        TT_COUNT(stats, node_visits, 1);
+        TT_COUNT(stats, active_lanes, act);
+        TT_COUNT(stats, rays.nodes, act);
+        TT_COUNT(stats, rays.leaves, act);
+        TT_COUNT(stats, rays.triangles, act * count);
+    }
+#endif
+    if (!count) return;
+    const int kx = P->kx, ky = P->ky, kz = P->kz;
+    const pk_v zero = PK_SET1(0.0f), one = PK_SET1(1.0f);
+    for (uint32_t j = 0; j < KP_K; j++) {
+        const uint32_t vi = v0 + j, base = vi * PK_L;
+        uint32_t mm = m[j];
+        if (any) mm &= ~P->done[vi];
+        if (!mm) continue;
+        const pk_v ox = PK_LOAD(P->o[kx] + base), oy = PK_LOAD(P->o[ky] + base),
+                   oz = PK_LOAD(P->o[kz] + base);
+        const pk_v sx = PK_LOAD(P->sx + base), sy = PK_LOAD(P->sy + base),
+                   sz = PK_LOAD(P->sz + base);
+        const pk_v tmin = PK_LOAD(P->tmin + base);
+        pk_v bt = PK_LOAD(P->t + base);
+        for (uint32_t i = 0; i < count && mm; i++) {
+            const uint32_t id = refs[i];
+            const float *p = T->tri + 9 * (size_t)id;
+            const pk_v ax = PK_SUB(PK_SET1(p[kx]), ox), ay = PK_SUB(PK_SET1(p[ky]), oy),
+                       az = PK_SUB(PK_SET1(p[kz]), oz);
+            const pk_v bx = PK_SUB(PK_SET1(p[3 + kx]), ox), by = PK_SUB(PK_SET1(p[3 + ky]), oy),
+                       bz = PK_SUB(PK_SET1(p[3 + kz]), oz);
+            const pk_v cx = PK_SUB(PK_SET1(p[6 + kx]), ox), cy = PK_SUB(PK_SET1(p[6 + ky]), oy),
+                       cz = PK_SUB(PK_SET1(p[6 + kz]), oz);
+            const pk_v Ax = PK_SUB(ax, PK_MUL(sx, az)), Ay = PK_SUB(ay, PK_MUL(sy, az));
+            const pk_v Bx = PK_SUB(bx, PK_MUL(sx, bz)), By = PK_SUB(by, PK_MUL(sy, bz));
+            const pk_v Cx = PK_SUB(cx, PK_MUL(sx, cz)), Cy = PK_SUB(cy, PK_MUL(sy, cz));
+            const pk_v U = PK_SUB(PK_MUL(Cx, By), PK_MUL(Cy, Bx));
+            const pk_v V = PK_SUB(PK_MUL(Ax, Cy), PK_MUL(Ay, Cx));
+            const pk_v W = PK_SUB(PK_MUL(Bx, Ay), PK_MUL(By, Ax));
+            uint32_t zl = PK_BITS(PK_MOR(PK_MOR(PK_CMP_EQ(U, zero), PK_CMP_EQ(V, zero)),
+                                         PK_CMP_EQ(W, zero))) &
+                          mm;
+            const pk_m neg =
+                PK_MOR(PK_MOR(PK_CMP_LT(U, zero), PK_CMP_LT(V, zero)), PK_CMP_LT(W, zero));
+            const pk_m pos =
+                PK_MOR(PK_MOR(PK_CMP_GT(U, zero), PK_CMP_GT(V, zero)), PK_CMP_GT(W, zero));
+            /* most lanes miss most triangles on the edge functions: skip
+             * the division when every active lane does */
+            const uint32_t inside = ~PK_BITS(PK_MAND(neg, pos)) & mm & ~zl;
+            if (!(inside | zl)) continue;
+            const pk_v det = PK_ADD(PK_ADD(U, V), W);
+            const pk_v Tv = PK_ADD(PK_ADD(PK_MUL(U, PK_MUL(sz, az)), PK_MUL(V, PK_MUL(sz, bz))),
+                                   PK_MUL(W, PK_MUL(sz, cz)));
+            const pk_v inv_det = PK_DIV(one, det);
+            const pk_v tt = PK_MUL(Tv, inv_det);
+            const pk_m ok = PK_MAND(PK_MAND(PK_CMP_NEQ(det, zero), PK_CMP_GE(tt, tmin)),
+                                    PK_CMP_LT(tt, bt));
+            uint32_t acc = PK_BITS(ok) & inside;
+            if (!(acc | zl)) continue;
+            /* tt_intersect_triangle's zero-area refusal (a property of the
+             * triangle: the same floats whichever lane asks) */
+            {
+                const float e1x = p[3] - p[0], e1y = p[4] - p[1], e1z = p[5] - p[2];
+                const float e2x = p[6] - p[0], e2y = p[7] - p[1], e2z = p[8] - p[2];
+                if (e1y * e2z - e1z * e2y == 0.0f && e1z * e2x - e1x * e2z == 0.0f &&
+                    e1x * e2y - e1y * e2x == 0.0f)
+                    continue;
+            }
+            if (any) {
+                P->done[vi] |= acc;
+                mm &= ~acc;
+            } else if (acc) {
+                const pk_m am = PK_MASK(acc);
+                bt = PK_BLEND(am, bt, tt);
+                PK_STORE(P->u + base, PK_BLEND(am, PK_LOAD(P->u + base), PK_MUL(V, inv_det)));
+                PK_STORE(P->v + base, PK_BLEND(am, PK_LOAD(P->v + base), PK_MUL(W, inv_det)));
+                PK_STOREI(P->prim + base, PK_BLENDI(am, PK_LOADI(P->prim + base), id));
+            }
+            if (zl) {
+                /* zero edge functions: tt_intersect_triangle's
+                 * double-precision recomputation, lane by lane (rare) */
+                PK_STORE(P->t + base, bt);
+                for (; zl; zl &= zl - 1) {
+                    const uint32_t l = base + (uint32_t)__builtin_ctz(zl);
+                    float th, uh, vh;
+                    if (!tt_intersect_triangle(P->ray[l], p, p + 3, p + 6, P->t[l], &th, &uh, &vh))
+                        continue;
+                    if (any) {
+                        P->done[vi] |= 1u << (l - base);
+                        mm &= ~(1u << (l - base));
+                    } else {
+                        P->t[l] = th;
+                        P->u[l] = uh;
+                        P->v[l] = vh;
+                        P->prim[l] = id;
+                    }
+                }
+                bt = PK_LOAD(P->t + base);
+            }
+        }
+        PK_STORE(P->t + base, bt);
+    }
+}
+
+/* One walk: the vectors v0 .. v0 + KP_K - 1 of the group from the root. */
+KP_INLINE void TT_VARIANT(KD_FN(kp_walk))(const tt_kd_view *T, kp_rays *P, uint32_t v0,
+                                             const int any, tt_packet_stats *stats)
+{
+    kp_entry stack[TT_KD_STACK];
+    int sp = 0;
+    pk_v ta[KP_K], tb[KP_K];
+    uint32_t m[KP_K], live = 0;
+    for (uint32_t j = 0; j < KP_K; j++) {
+        m[j] = P->live[v0 + j];
+        live |= m[j];
+        ta[j] = PK_LOAD(P->ta + (v0 + j) * PK_L);
+        tb[j] = PK_LOAD(P->tb + (v0 + j) * PK_L);
+    }
+    if (!live) return;
+    uint32_t node = 0;
+    (void)stats;
+    for (;;) {
+        tt_kd_node n = T->nodes[node];
+        while (!tt_kd_is_leaf(n.bits)) {
+#if TT_STATS
+            {
+                uint64_t act = 0;
+                for (uint32_t j = 0; j < KP_K; j++) act += kp_popcount(m[j]);
+                TT_COUNT(stats, node_visits, 1);
+                TT_COUNT(stats, active_lanes, act);
+                TT_COUNT(stats, rays.nodes, act);
+                TT_COUNT(stats, rays.interior, act);
+            }
+#endif
+            const int k = tt_kd_axis(n.bits);
+            const uint32_t left = tt_kd_left(node, n.bits), right = tt_kd_right(n.bits);
+            const uint32_t first = P->down[k] ? right : left, second = P->down[k] ? left : right;
+            const pk_v split = PK_SET1(n.u.split);
+            uint32_t fm[KP_K], sm[KP_K], fany = 0, sany = 0;
+            pk_v lo[KP_K], hi[KP_K];
+            for (uint32_t j = 0; j < KP_K; j++) {
+                const uint32_t base = (v0 + j) * PK_L;
+                const pk_v ts = PK_MUL(PK_SUB(split, PK_LOAD(P->o[k] + base)),
+                                       PK_LOAD(P->inv[k] + base));
+                const pk_v e = PK_LOAD(P->e[k] + base);
+                lo[j] = PK_SUB(ts, e);
+                hi[j] = PK_ADD(ts, e);
+                /* HTR's branches: hi < ta the far child alone, else lo > tb
+                 * the near child alone, else both */
+                const uint32_t far_only = PK_BITS(PK_CMP_LT(hi[j], ta[j]));
+                fm[j] = m[j] & ~far_only;
+                sm[j] = m[j] & (far_only | ~PK_BITS(PK_CMP_GT(lo[j], tb[j])));
+                fany |= fm[j];
+                sany |= sm[j];
+            }
+            if (fany && sany) {
+                kp_entry *e = &stack[sp++];
+                e->node = second;
+                for (uint32_t j = 0; j < KP_K; j++) {
+                    e->m[j] = sm[j];
+                    e->ta[j] = PK_MAX(ta[j], lo[j]);
+                    e->tb[j] = tb[j];
+                    m[j] = fm[j];
+                    tb[j] = PK_MIN(tb[j], hi[j]);
+                }
+                node = first;
+            } else if (fany) {
+                /* (lanes going near only keep tb: lo > tb there, so hi > tb) */
+                for (uint32_t j = 0; j < KP_K; j++) {
+                    m[j] = fm[j];
+                    tb[j] = PK_MIN(tb[j], hi[j]);
+                }
+                node = first;
+            } else if (sany) {
+                for (uint32_t j = 0; j < KP_K; j++) {
+                    m[j] = sm[j];
+                    ta[j] = PK_MAX(ta[j], lo[j]);
+                }
+                node = second;
+            } else {
+                goto pop;
+            }
+            n = T->nodes[node];
+        }
+        TT_VARIANT(KD_FN(kp_leaf))(T, P, v0, m, n, any, stats);
+    pop:
+        for (;;) {
+            if (!sp) return;
+            const kp_entry *e = &stack[--sp];
+            live = 0;
+            for (uint32_t j = 0; j < KP_K; j++) {
+                const uint32_t base = (v0 + j) * PK_L;
+                /* tt_kd_htr_pop: entries beginning at or past the lane's
+                 * closest hit so far are dropped */
+                m[j] = e->m[j] & ~PK_BITS(PK_CMP_GE(e->ta[j], PK_LOAD(P->t + base)));
+                if (any) m[j] &= ~P->done[v0 + j];
+                live |= m[j];
+            }
+            if (live) {
+                node = e->node;
+                for (uint32_t j = 0; j < KP_K; j++) {
+                    ta[j] = e->ta[j];
+                    tb[j] = e->tb[j];
+                }
+                break;
+            }
+        }
+    }
+}
+
+/* Loads the group's rays idx[0..n) into P, in the caller's order. */
+KP_INLINE void TT_VARIANT(KD_FN(kp_load))(const tt_kd_view *T, kp_rays *P,
+                                             const tt_wray *rays, const uint16_t *idx, uint32_t n)
+{
+    const tt_wray *r0 = &rays[idx[0]];
+    P->n = n;
+    /* whole walks: lanes past n repeat the first ray, never live */
+    P->vecs = (n + KP_RAYS - 1) / KP_RAYS * KP_K;
+    P->kx = r0->kx;
+    P->ky = r0->ky;
+    P->kz = r0->kz;
+    for (int k = 0; k < 3; k++) P->down[k] = r0->dir[k] < 0.0f;
+    float m[3];
+    for (int k = 0; k < 3; k++)
+        m[k] = tt_kd_max(fabsf(TT_LDG(&T->aug[0].lo[k])), fabsf(TT_LDG(&T->aug[0].hi[k])));
+    for (uint32_t v = 0; v < P->vecs; v++) P->live[v] = P->done[v] = 0;
+    for (uint32_t i = 0; i < P->vecs * PK_L; i++) {
+        const tt_wray *r = &rays[idx[i < n ? i : 0]];
+        P->ray[i] = r;
+        tt_kd_band band;
+        tt_kd_band_init(&band, r);
+        float ta = 0.0f, tb = 0.0f;
+        const int hit = i < n && tt_kd_root_interval(T, r, &band, &ta, &tb);
+        for (int k = 0; k < 3; k++) {
+            P->o[k][i] = r->org[k];
+            P->inv[k][i] = r->inv[k];
+            /* tt_kd_htr_moving's per-axis band */
+            P->e[k][i] = m[k] * band.bi[k] + band.bo[k];
+        }
+        P->ta[i] = ta;
+        P->tb[i] = tt_kd_min(tb, r->tmax);
+        P->tmin[i] = r->tmin;
+        P->t[i] = r->tmax;
+        P->u[i] = P->v[i] = 0.0f;
+        P->prim[i] = TT_INVALID_ID;
+        P->sx[i] = r->sx;
+        P->sy[i] = r->sy;
+        P->sz[i] = r->sz;
+        if (hit) P->live[i / PK_L] |= 1u << (i % PK_L);
+    }
+}
+
+/* One ray through the single-ray kernel (small groups, rays with a zero
+ * direction component). */
+KP_INLINE void TT_VARIANT(KD_FN(kp_single))(const tt_kd_view *T, const tt_wray *r, int any,
+                                               tt_hit *hit, uint8_t *occ, tt_packet_stats *stats)
+{
+    uint32_t end;
+    (void)stats;
+#if TT_STATS
+    const uint64_t before = stats->rays.rays;
+    if (any) *occ = (uint8_t)(tt_kd_cpu_occluded_stats(T, TT_KD_HTR, r, TT_INVALID_ID,
+                                                       TT_INVALID_ID, &end, &stats->rays) != 0);
+    else tt_kd_cpu_intersect_stats(T, TT_KD_HTR, r, TT_INVALID_ID, hit, &end, &stats->rays);
+    stats->rays.rays = before; /* counted once by the packet */
+    TT_COUNT(stats, fallback_rays, 1);
+#else
+    if (any) *occ = (uint8_t)(KD_SINGLE_OCCLUDED(T, TT_KD_HTR, r, TT_INVALID_ID, TT_INVALID_ID,
+                                                 &end) != 0);
+    else KD_SINGLE_INTERSECT(T, TT_KD_HTR, r, TT_INVALID_ID, hit, &end);
+#endif
+}
+
+/* The entry point: rays[0..n) (n <= TT_PACKET_MAX) grouped by octant and
+ * dominant axis, each group traced in walks of KP_RAYS rays (small groups
+ * ray by ray); closest hits into hits (any = 0) or occlusion bytes into
+ * occ (any = 1). */
+void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_wray *rays, uint32_t n,
+                                     int any, tt_hit *hits, uint8_t *occ,
+                                     tt_packet_stats *stats)
+{
+    uint16_t idx[KP_GROUPS][KP_N];
+    uint32_t cnt[KP_GROUPS] = {0};
+    TT_COUNT(stats, rays.rays, n);
+    for (uint32_t i = 0; i < n; i++) {
+        const tt_wray *r = &rays[i];
+        if (r->dir[0] == 0.0f || r->dir[1] == 0.0f || r->dir[2] == 0.0f) {
+            TT_VARIANT(KD_FN(kp_single))(T, r, any, hits + (any ? 0 : i), occ + (any ? i : 0),
+                                         stats);
+            continue;
+        }
+        const uint32_t g = ((uint32_t)(r->dir[0] < 0.0f) | (uint32_t)(r->dir[1] < 0.0f) << 1 |
+                            (uint32_t)(r->dir[2] < 0.0f) << 2) *
+                               3u +
+                           (uint32_t)r->kz;
+        idx[g][cnt[g]++] = (uint16_t)i;
+    }
+    _Alignas(64) kp_rays P;
+    for (uint32_t g = 0; g < KP_GROUPS; g++) {
+        const uint32_t c = cnt[g];
+        if (!c) continue;
+        if (c < KP_MIN_RAYS) {
+            for (uint32_t j = 0; j < c; j++) {
+                const uint32_t i = idx[g][j];
+                TT_VARIANT(KD_FN(kp_single))(T, &rays[i], any, hits + (any ? 0 : i),
+                                             occ + (any ? i : 0), stats);
+            }
+            continue;
+        }
+        TT_COUNT(stats, packets, 1);
+        TT_COUNT(stats, rays.boxes, c);
+        TT_VARIANT(KD_FN(kp_load))(T, &P, rays, idx[g], c);
+        for (uint32_t v0 = 0; v0 < P.vecs; v0 += KP_K)
+            TT_VARIANT(KD_FN(kp_walk))(T, &P, v0, any, stats);
+        for (uint32_t j = 0; j < c; j++) {
+            const uint32_t i = idx[g][j];
+            if (any) {
+                occ[i] = (uint8_t)(P.done[j / PK_L] >> (j % PK_L) & 1u);
+            } else {
+                tt_hit *h = &hits[i];
+                h->prim = P.prim[j];
+                h->t = P.prim[j] == TT_INVALID_ID ? TT_INF : P.t[j];
+                h->u = P.u[j];
+                h->v = P.v[j];
+            }
+        }
+    }
+}

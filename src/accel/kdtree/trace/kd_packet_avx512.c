@@ -1,0 +1,53 @@
+/* The kd-tree's packet traversal (kd_packet.h) with 16 rays per AVX-512
+ * register; mask registers hold a vector's lanes. Compiled with the
+ * AVX-512 flags and -ffp-contract=off (no FMA: every lane rounds as the
+ * single-ray kernels do). */
+#include "accel/kdtree/trace/kd_packet_cpu.h"
+
+#if defined(TT_HAVE_X86_KERNELS)
+#include <immintrin.h>
+#include <math.h>
+
+#include "accel/kdtree/trace/kd_trace_cpu.h"
+
+#define KD_FN(name) name##_avx512
+#define PK_L 16
+typedef __m512 pk_v;
+typedef __mmask16 pk_m;
+#define PK_LOAD(p) _mm512_load_ps(p)
+#define PK_STORE(p, x) _mm512_store_ps(p, x)
+#define PK_LOADI(p) _mm512_load_si512((const void *)(p))
+#define PK_STOREI(p, x) _mm512_store_si512((void *)(p), x)
+#define PK_SET1(x) _mm512_set1_ps(x)
+#define PK_ADD _mm512_add_ps
+#define PK_SUB _mm512_sub_ps
+#define PK_MUL _mm512_mul_ps
+#define PK_DIV _mm512_div_ps
+/* min(a, b) = a < b ? a : b and max(a, b) = a > b ? a : b, NaN included:
+ * tt_kd_min / tt_kd_max exactly */
+#define PK_MIN _mm512_min_ps
+#define PK_MAX _mm512_max_ps
+#define PK_CMP_LT(a, b) _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ)
+#define PK_CMP_GT(a, b) _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ)
+#define PK_CMP_GE(a, b) _mm512_cmp_ps_mask(a, b, _CMP_GE_OQ)
+#define PK_CMP_EQ(a, b) _mm512_cmp_ps_mask(a, b, _CMP_EQ_OQ)
+#define PK_CMP_NEQ(a, b) _mm512_cmp_ps_mask(a, b, _CMP_NEQ_UQ)
+#define PK_MAND(a, b) ((pk_m)((a) & (b)))
+#define PK_MOR(a, b) ((pk_m)((a) | (b)))
+#define PK_MANDNOT(a, b) ((pk_m)(~(a) & (b))) /* not a, and b */
+#define PK_BITS(m) ((uint32_t)(m))
+#define PK_MASK(bits) ((pk_m)(bits))
+#define PK_BLEND(m, a, b) _mm512_mask_blend_ps(m, a, b) /* m ? b : a */
+#define PK_BLENDI(m, a, x) _mm512_mask_blend_epi32(m, a, _mm512_set1_epi32((int)(x)))
+
+#define KD_SINGLE_INTERSECT tt_kd_avx512_intersect
+#define KD_SINGLE_OCCLUDED tt_kd_avx512_occluded
+
+#define TT_STATS 0
+#include "accel/stats_variant.h"
+#include "accel/kdtree/trace/kd_packet.h"
+#undef TT_STATS
+#define TT_STATS 1
+#include "accel/stats_variant.h"
+#include "accel/kdtree/trace/kd_packet.h"
+#endif
