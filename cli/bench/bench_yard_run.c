@@ -58,7 +58,7 @@ static void config_add(const char *label, tt_build_options b)
 }
 
 /* The default R-tree first: its hits make the shadow and AO rays. Then the
- * default kd-tree, the binned kd-tree and Feldmann's configuration (built
+ * wide BVH, the default kd-tree, the binned kd-tree and Feldmann's configuration (built
  * by insertion, complete level-order layout), each with the library's other
  * defaults (M and d_min resolved as the library resolves them). */
 const bench_engine_config *bench_engine_configs(size_t *count)
@@ -71,6 +71,11 @@ const bench_engine_config *bench_engine_configs(size_t *count)
         b.rtree.layout = TT_RTREE_LAYOUT_COMPACT;
         b.rtree.M = tt_rtree_max_entries(&b.rtree);
         config_add("rtree sah, compact", b);
+        /* the unbalanced wide BVH on the same compact records (issue 17:
+         * what the R-tree's balance costs, view by view) */
+        tt_build_options_default(&b);
+        b.accel = "wbvh";
+        config_add("wbvh sah", b);
         static const struct {
             const char *label;
             tt_kd_builder builder;
