@@ -156,7 +156,11 @@ TT_HD int TT_VARIANT(tt_kd_htr_moving)(const tt_kd_view *T, const tt_wray *r, in
             }
             n = T->nodes[node];
         }
-        if (TT_VARIANT(tt_kd_leaf)(T, n, r, any, best, stats)) return 1;
+        /* An empty leaf (the SAH's empty bonus makes many) costs no leaf
+         * call in the fast variant; the counting one still counts it. */
+        if ((TT_STATS || tt_kd_leaf_count(n.bits) != 0) &&
+            TT_VARIANT(tt_kd_leaf)(T, n, r, any, best, stats))
+            return 1;
         if (!tt_kd_htr_pop(stack, &sp, best->t, &node, &ta, &tb)) return 0;
     }
 }
@@ -166,6 +170,12 @@ TT_HD int TT_VARIANT(tt_kd_htr)(const tt_kd_view *T, const tt_wray *r, int any, 
 {
     TT_COUNT(stats, boxes, 1);
     if (r->dir[0] != 0.0f && r->dir[1] != 0.0f && r->dir[2] != 0.0f)
-        return TT_VARIANT(tt_kd_htr_moving)(T, r, any, best, stats);
+        /* A copy of the loop per kind of query: `any` is then a constant
+         * in each, and the leaf's any-hit exits fold away in the closest-
+         * hit copy. With the empty-leaf skip above: 4-12% faster primary
+         * and 1-10% faster shadow rays on bunny, sibenik and conference
+         * (Cornell box level), interleaved A/B, 1 thread, CPU time. */
+        return any ? TT_VARIANT(tt_kd_htr_moving)(T, r, 1, best, stats)
+                   : TT_VARIANT(tt_kd_htr_moving)(T, r, 0, best, stats);
     return TT_VARIANT(tt_kd_htr_general)(T, r, any, best, stats);
 }
