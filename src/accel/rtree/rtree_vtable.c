@@ -267,6 +267,11 @@ static void rtree_statistics(const tt_accel *a, tt_stat_fn fn, void *user)
             fn(user, "update_tree_s", t->dyn->last_tree_s);
             fn(user, "update_layout_s", t->dyn->last_layout_s);
             fn(user, "update_repacks", (double)t->dyn->repacks);
+            /* the slack layout (rtree_dyn.h): full rewrites, and what the
+             * last update wrote in place */
+            fn(user, "update_compactions", (double)t->dyn->compactions);
+            fn(user, "update_records_written", (double)t->dyn->last_records);
+            fn(user, "update_blocks_written", (double)t->dyn->last_blocks);
         }
         return;
     }

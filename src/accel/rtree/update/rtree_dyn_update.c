@@ -14,7 +14,8 @@
  * Order: refits first and the boxes brought up (so every box is exact),
  * then deletions, then insertions. The compact layout: when nothing was
  * deleted or inserted, the moved lanes and the boxes that changed are
- * written in place; otherwise it is repacked from the pointer tree. */
+ * written in place; otherwise the records and blocks of the nodes the
+ * update touched are rewritten in the slack layout (rt_dyn_sync). */
 #include <math.h>
 #include <omp.h>
 #include <string.h>
@@ -149,7 +150,9 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
         else
             for (uint32_t j = 0; j < d->dirty_count; j++) rt_dyn_write_box(d, t, d->dirty_list[j]);
     } else if (st == TT_OK) {
-        st = rt_dyn_repack(d, ctx, t, scene);
+        /* the touched nodes' records and blocks rewritten in the slack
+         * layout (a compaction now and then: rt_dyn_sync) */
+        st = rt_dyn_sync(d, ctx, t, scene);
         if (st == TT_OK) d->must_repack = 0;
     }
     for (uint32_t j = 0; j < d->dirty_count; j++) d->dirty[d->dirty_list[j]] = 0;
