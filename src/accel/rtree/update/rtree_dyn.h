@@ -31,19 +31,25 @@ typedef struct rt_dyn {
     uint32_t *lane_of;
     /* The slack layout (rtree_dyn_compact.c), which in-place updates keep:
      * every node above level 1 owns a group of M consecutive records for
-     * its children, every level-1 node a region of M leaf slots of
-     * ceil(M / 8) blocks (its leaf i at slot i), so an entry added or
-     * removed rewrites its own records and blocks only. grp_of[node] the
-     * group's first record / the region's first block, grp_hi[node] the
-     * slots written (those past the count are cleared on a shrink). Groups
-     * and regions of freed nodes wait in pend_* until the next layout sync
-     * clears them, then in free_* for reuse. */
+     * its children; every level-1 node a region of 2^k blocks (k: grp_hi)
+     * into which its leaves are packed as rtc_pack packs them (first fit,
+     * in entry order). An entry added or removed rewrites its node's
+     * record and, on level 1, its region; a region too small (or four
+     * times too big) is exchanged for one of the right size. grp_of[node]
+     * the group's first record / the region's first block; grp_hi[node]
+     * the group's slots written (those past the count are cleared on a
+     * shrink) / the region's size class. Groups and regions of freed
+     * nodes wait in pend_* until the next sync clears them, then in free_*
+     * (regions by class) for reuse. */
     uint32_t *grp_of;
     uint8_t *grp_hi;
     uint32_t *free_grp, free_grp_count, free_grp_cap;
-    uint32_t *free_reg, free_reg_count, free_reg_cap;
+#define RT_DYN_REGION_CLASSES 6 /* 1 .. 32 = 2 M blocks */
+    uint32_t *free_reg[RT_DYN_REGION_CLASSES], free_reg_count[RT_DYN_REGION_CLASSES],
+        free_reg_cap[RT_DYN_REGION_CLASSES];
+    uint64_t free_reg_blocks;
     uint32_t *pend_grp, pend_grp_count, pend_grp_cap;
-    uint32_t *pend_reg, pend_reg_count, pend_reg_cap;
+    uint32_t *pend_reg, pend_reg_count, pend_reg_cap; /* block | class << 26 */
     uint32_t lay_rec_cap, lay_blk_cap;   /* records / blocks allocated   */
     uint32_t lay_rec_used, lay_blk_used; /* ... in use (c.nodes, c.blocks) */
     uint32_t lay_words;

@@ -142,7 +142,7 @@ void rt_dyn_free(tt_context *ctx, rt_dyn *d)
     tt_free(ctx, d->grp_of);
     tt_free(ctx, d->grp_hi);
     tt_free(ctx, d->free_grp);
-    tt_free(ctx, d->free_reg);
+    for (int k = 0; k < RT_DYN_REGION_CLASSES; k++) tt_free(ctx, d->free_reg[k]);
     tt_free(ctx, d->pend_grp);
     tt_free(ctx, d->pend_reg);
     tt_free(ctx, d->touched);
@@ -275,17 +275,12 @@ void rt_dyn_write_all_boxes(rt_dyn *d, rtc_tree *t, int threads)
 
 /* ------------------------------------------------- the slack layout */
 
-/* A free group or region past this fraction of the records or blocks
- * (1 / DYN_COMPACT_FREE) makes the next sync a compaction: the layout is
- * rewritten fresh, depth first, which also restores the traversal's
- * memory locality. */
+/* Free groups or region blocks past this fraction of the records or
+ * blocks (1 / DYN_COMPACT_FREE) make the next sync a compaction: the
+ * layout is rewritten fresh, depth first, which also restores the
+ * traversal's memory locality. */
 #define DYN_COMPACT_FREE 4
-
-static uint32_t slot_blocks(const rt_dyn *d)
-{
-    return ((uint32_t)d->b.M + TT_TRI_BLOCK_W - 1) / TT_TRI_BLOCK_W;
-}
-static uint32_t region_blocks(const rt_dyn *d) { return (uint32_t)d->b.M * slot_blocks(d); }
+#define REG_CLASS_SHIFT 26
 
 static tt_status push(tt_context *ctx, uint32_t **a, uint32_t *count, uint32_t *cap, uint32_t v)
 {
@@ -325,28 +320,28 @@ void rt_dyn_touch(void *user, uint32_t n)
 void rt_dyn_release(rt_dyn *d, uint32_t n)
 {
     if (n >= d->rec_cap) return; /* made in this update: nothing of it is laid out */
+    const rt_builder *b = &d->b;
     if (d->grp_of[n] != TT_INVALID_ID && d->slack) {
-        tt_status st = d->b.hdr[n].level >= 2
-                           ? push(d->b.ctx, &d->pend_grp, &d->pend_grp_count, &d->pend_grp_cap,
+        tt_status st = b->hdr[n].level >= 2
+                           ? push(b->ctx, &d->pend_grp, &d->pend_grp_count, &d->pend_grp_cap,
                                   d->grp_of[n])
-                           : push(d->b.ctx, &d->pend_reg, &d->pend_reg_count, &d->pend_reg_cap,
-                                  d->grp_of[n]);
+                           : push(b->ctx, &d->pend_reg, &d->pend_reg_count, &d->pend_reg_cap,
+                                  d->grp_of[n] | (uint32_t)d->grp_hi[n] << REG_CLASS_SHIFT);
         if (st != TT_OK) d->touch_oom = 1; /* lost: the next sync compacts */
     }
     d->grp_of[n] = d->rec_of[n] = TT_INVALID_ID;
     d->grp_hi[n] = 0;
-    /* n's children, still listed, lose their places in the group or region
-     * (cleared at the sync and perhaps handed to a node that takes them at
-     * the same slots): so they are written again wherever they land */
-    const rt_builder *b = &d->b;
-    if (b->hdr[n].level == 0) return;
+    /* n's children, still listed, lose their places in the group (cleared
+     * at the sync and perhaps handed to a node that takes them at the same
+     * slots): so they are written again wherever they land */
+    if (b->hdr[n].level < 2) return;
     const uint32_t *ch = rt_node_child(b, n);
     for (int i = 0; i < b->hdr[n].count; i++)
         if (ch[i] < d->rec_cap) d->rec_of[ch[i]] = TT_INVALID_ID;
 }
 
-/* Record r as the free mark every traversal skips and the check accepts:
- * +inf boxes, no references, no parent, no entries, level 0. */
+/* Record r as the free mark every traversal skips and the check accepts
+ * (tt_rtc_is_free): +inf boxes, no references, no parent, no entries. */
 static void record_clear(const tt_rtc *c, uint32_t r)
 {
     float *rec = (float *)tt_rtc_node(c, r);
@@ -401,73 +396,138 @@ static tt_status lay_reserve(rt_dyn *d, rtc_tree *t, uint64_t records, uint64_t 
     return TT_OK;
 }
 
-/* A group of M records (level >= 2) or a region of leaf slots (level 1),
- * from the free list or the arrays' end, cleared. */
-static tt_status lay_alloc(rt_dyn *d, rtc_tree *t, int level, uint32_t *out)
+/* A group of M free records, from the free list or the array's end. */
+static tt_status alloc_group(rt_dyn *d, rtc_tree *t, uint32_t *out)
 {
     tt_rtc *c = &t->c;
-    if (level >= 2) {
-        if (d->free_grp_count) {
-            *out = d->free_grp[--d->free_grp_count];
-            return TT_OK;
-        }
-        tt_status st = lay_reserve(d, t, (uint64_t)c->nodes + c->M, c->blocks);
-        if (st != TT_OK) return st;
-        *out = c->nodes;
-        for (uint32_t i = 0; i < c->M; i++) record_clear(c, c->nodes + i);
-        c->nodes += c->M;
+    if (d->free_grp_count) {
+        *out = d->free_grp[--d->free_grp_count];
         return TT_OK;
     }
-    if (d->free_reg_count) {
-        *out = d->free_reg[--d->free_reg_count];
-        return TT_OK;
-    }
-    const uint32_t rb = region_blocks(d);
-    tt_status st = lay_reserve(d, t, c->nodes, (uint64_t)c->blocks + rb);
+    tt_status st = lay_reserve(d, t, (uint64_t)c->nodes + c->M, c->blocks);
     if (st != TT_OK) return st;
-    *out = c->blocks;
-    lanes_clear(c, (uint64_t)c->blocks * TT_TRI_BLOCK_W, (uint64_t)rb * TT_TRI_BLOCK_W);
-    c->blocks += rb;
+    *out = c->nodes;
+    for (uint32_t i = 0; i < c->M; i++) record_clear(c, c->nodes + i);
+    c->nodes += c->M;
     return TT_OK;
 }
 
-/* Where node n (level >= 1: its record) or leaf n (its first block) lives
- * now: its slot in its parent's group or region. */
+/* A region of 2^k unused blocks, from its class's free list or the end. */
+static tt_status alloc_region(rt_dyn *d, rtc_tree *t, uint32_t k, uint32_t *out)
+{
+    tt_rtc *c = &t->c;
+    if (d->free_reg_count[k]) {
+        *out = d->free_reg[k][--d->free_reg_count[k]];
+        d->free_reg_blocks -= 1u << k;
+        return TT_OK;
+    }
+    tt_status st = lay_reserve(d, t, c->nodes, (uint64_t)c->blocks + (1u << k));
+    if (st != TT_OK) return st;
+    *out = c->blocks;
+    lanes_clear(c, (uint64_t)c->blocks * TT_TRI_BLOCK_W, (uint64_t)TT_TRI_BLOCK_W << k);
+    c->blocks += 1u << k;
+    return TT_OK;
+}
+
+/* Region `v` (block | class << REG_CLASS_SHIFT) cleared and free. */
+static tt_status free_region(rt_dyn *d, const tt_rtc *c, uint32_t v)
+{
+    const uint32_t k = v >> REG_CLASS_SHIFT, blk = v & ((1u << REG_CLASS_SHIFT) - 1);
+    lanes_clear(c, (uint64_t)blk * TT_TRI_BLOCK_W, (uint64_t)TT_TRI_BLOCK_W << k);
+    d->free_reg_blocks += 1u << k;
+    return push(d->b.ctx, &d->free_reg[k], &d->free_reg_count[k], &d->free_reg_cap[k], blk);
+}
+
+/* The blocks level-1 node n's leaves fill, packed first fit in entry order
+ * (rtc_pack's place_leaf: a leaf of up to 8 triangles takes the lanes left
+ * in the last block when they suffice); first[i] gets leaf i's first lane
+ * (NULL: not wanted). */
+static uint32_t pack_leaves(const rt_builder *b, uint32_t n, uint32_t *first)
+{
+    const uint32_t *ch = rt_node_child(b, n);
+    uint32_t blocks = 0, used = 0;
+    for (int i = 0; i < b->hdr[n].count; i++) {
+        const uint32_t cnt = b->hdr[ch[i]].count;
+        uint32_t lane;
+        if (cnt <= TT_TRI_BLOCK_W && blocks > 0 && used + cnt <= TT_TRI_BLOCK_W) {
+            lane = (blocks - 1) * TT_TRI_BLOCK_W + used;
+            used += cnt;
+        } else {
+            const uint32_t nb = tt_tri_block_count(cnt);
+            lane = blocks * TT_TRI_BLOCK_W;
+            blocks += nb;
+            used = cnt - (nb - 1) * TT_TRI_BLOCK_W;
+        }
+        if (first) first[i] = lane;
+    }
+    return blocks;
+}
+
+static uint32_t class_of(uint32_t blocks)
+{
+    uint32_t k = 0;
+    while ((1u << k) < blocks) k++;
+    return k;
+}
+
+/* Level-1 node n's region fits its leaves: exchanged for one of the right
+ * class when too small or four times too big (the old one freed now: its
+ * leaves are all written again from the tree). */
+static tt_status fit_region(rt_dyn *d, rtc_tree *t, uint32_t n)
+{
+    const uint32_t need = pack_leaves(&d->b, n, NULL), k = class_of(need ? need : 1);
+    if (d->grp_of[n] != TT_INVALID_ID) {
+        const uint32_t have = d->grp_hi[n];
+        if (k <= have && (have == 0 || k + 2 > have)) return TT_OK;
+        tt_status st = free_region(d, &t->c, d->grp_of[n] | have << REG_CLASS_SHIFT);
+        d->grp_of[n] = TT_INVALID_ID;
+        if (st != TT_OK) return st;
+    }
+    d->grp_hi[n] = (uint8_t)k;
+    return alloc_region(d, t, k, &d->grp_of[n]);
+}
+
+/* Where interior node n's record is now: its slot in its parent's group. */
 static uint32_t lay_pos(const rt_dyn *d, uint32_t n)
 {
     const rt_builder *b = &d->b;
-    if (n == b->root) return 0;
-    const uint32_t p = b->hdr[n].parent;
-    return d->grp_of[p] + b->hdr[n].slot * (b->hdr[n].level == 0 ? slot_blocks(d) : 1u);
+    return n == b->root ? 0 : d->grp_of[b->hdr[n].parent] + b->hdr[n].slot;
 }
 
-/* Leaf l's triangles into its slot from block blk; the slot's other lanes
- * unused. */
-static void write_leaf(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t l,
-                       uint32_t blk)
+/* Level-1 node n's leaves into its region, packed; the rest of the region
+ * unused lanes. Returns nothing: the references go into ref. */
+static void write_region(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
+                         uint32_t *ref)
 {
     const rt_builder *b = &d->b;
-    const uint32_t *ch = rt_node_child(b, l);
-    const uint32_t cnt = b->hdr[l].count, lanes = slot_blocks(d) * TT_TRI_BLOCK_W;
-    const uint64_t first = (uint64_t)blk * TT_TRI_BLOCK_W;
-    for (uint32_t k = 0; k < cnt; k++) {
-        const uint64_t g = first + k;
-        tt_tri_block *bk = (tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
-        const uint32_t lane = (uint32_t)(g % TT_TRI_BLOCK_W), id = ch[k];
-        const float *v = scene->tri + 9 * (size_t)id;
-        const int dead = tt_tri_is_degenerate(v, v + 3, v + 6); /* as rtc_pack writes it */
-        for (int q = 0; q < 9; q++) bk->v[q][lane] = dead ? NAN : v[q];
-        bk->prim[lane] = id;
-        d->lane_of[id] = (uint32_t)g;
+    uint32_t first[TT_RT_CAP];
+    const uint32_t used = pack_leaves(b, n, first), blk = d->grp_of[n];
+    const uint64_t base = (uint64_t)blk * TT_TRI_BLOCK_W;
+    const uint32_t *ch = rt_node_child(b, n);
+    lanes_clear(c, base, (uint64_t)(1u << d->grp_hi[n]) * TT_TRI_BLOCK_W);
+    for (int i = 0; i < b->hdr[n].count; i++) {
+        const uint32_t l = ch[i], cnt = b->hdr[l].count, *id = rt_node_child(b, l);
+        for (uint32_t k = 0; k < cnt; k++) {
+            const uint64_t g = base + first[i] + k;
+            tt_tri_block *bk = (tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
+            const uint32_t lane = (uint32_t)(g % TT_TRI_BLOCK_W);
+            const float *v = scene->tri + 9 * (size_t)id[k];
+            const int dead = tt_tri_is_degenerate(v, v + 3, v + 6); /* as rtc_pack writes */
+            for (int q = 0; q < 9; q++) bk->v[q][lane] = dead ? NAN : v[q];
+            bk->prim[lane] = id[k];
+            d->lane_of[id[k]] = (uint32_t)g;
+        }
+        const uint64_t g0 = base + first[i];
+        ref[i] = tt_rtc_leaf_ref((uint32_t)(g0 / TT_TRI_BLOCK_W), (uint32_t)(g0 % TT_TRI_BLOCK_W),
+                                 cnt);
+        d->rec_of[l] = TT_INVALID_ID;
     }
-    lanes_clear(c, first + cnt, lanes - cnt);
-    d->rec_of[l] = blk;
-    d->last_blocks += slot_blocks(d);
+    d->last_blocks += used;
 }
 
-/* Interior node n's record at its place, its children's references, and
- * what moved under it: children records elsewhere are touched (written
- * later in the same sync), leaves moved or touched are written. */
+/* Interior node n's record at its place: header, boxes, references; a
+ * level-1 node's region written whole; children records elsewhere than
+ * their slot in n's group are touched (written later in the same sync). */
 static void write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n)
 {
     const rt_builder *b = &d->b;
@@ -479,9 +539,9 @@ static void write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32
     rtc_set_boxes(c, rec, rt_node_box(b, n), (uint32_t)b->cap, cnt);
     ref[c->S] = n == b->root ? TT_INVALID_ID : lay_pos(d, b->hdr[n].parent);
     ref[c->S + 1] = cnt | level << 8;
-    const uint32_t g = d->grp_of[n], *ch = rt_node_child(b, n);
     d->last_records++;
     if (level >= 2) {
+        const uint32_t g = d->grp_of[n], *ch = rt_node_child(b, n);
         for (uint32_t i = 0; i < cnt; i++) {
             ref[i] = g + i;
             if (d->rec_of[ch[i]] != g + i) rt_dyn_touch(d, ch[i]);
@@ -489,19 +549,11 @@ static void write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32
                 ((uint32_t *)tt_rtc_child(c, tt_rtc_node(c, g + i)))[c->S] = r;
         }
         for (uint32_t i = cnt; i < d->grp_hi[n]; i++) record_clear(c, g + i);
+        d->grp_hi[n] = (uint8_t)cnt;
     } else {
-        const uint32_t sb = slot_blocks(d);
-        for (uint32_t i = 0; i < cnt; i++) {
-            const uint32_t l = ch[i], blk = g + i * sb;
-            ref[i] = tt_rtc_leaf_ref(blk, 0, b->hdr[l].count);
-            if (d->rec_of[l] != blk || (l < d->touched_cap && d->touched[l]))
-                write_leaf(d, c, scene, l, blk);
-        }
-        for (uint32_t i = cnt; i < d->grp_hi[n]; i++)
-            lanes_clear(c, (uint64_t)(g + i * sb) * TT_TRI_BLOCK_W, (uint64_t)sb * TT_TRI_BLOCK_W);
+        write_region(d, c, scene, n, ref);
     }
     for (uint32_t i = cnt; i < c->S; i++) ref[i] = TT_INVALID_ID;
-    d->grp_hi[n] = (uint8_t)cnt;
 }
 
 /* A compaction: fresh arrays sized to the tree (with a quarter to grow
@@ -512,28 +564,32 @@ static tt_status lay_start_full(rt_dyn *d, rtc_tree *t)
     rt_builder *b = &d->b;
     tt_context *ctx = b->ctx;
     const uint32_t M = (uint32_t)b->M;
-    /* the interior nodes, depth first (preorder), into the touch list */
     for (uint32_t k = 0; k < d->touch_count; k++) d->touched[d->touch_list[k]] = 0;
     d->touch_count = 0;
-    uint64_t groups = 0, regions = 0;
+    uint64_t groups = 0, blocks = 0;
     uint32_t stack[TT_RT_BUILD_LEVELS * TT_RT_CAP];
     int sp = 0;
     stack[sp++] = b->root;
     while (sp > 0) {
         const uint32_t n = stack[--sp];
-        if (b->hdr[n].level == 0) continue;
         rt_dyn_touch(d, n);
         groups += b->hdr[n].level >= 2;
-        regions += b->hdr[n].level == 1;
+        if (b->hdr[n].level == 1) {
+            const uint32_t need = pack_leaves(b, n, NULL);
+            blocks += 1u << class_of(need ? need : 1);
+            continue;
+        }
         const uint32_t *ch = rt_node_child(b, n);
-        for (int i = b->hdr[n].count - 1; i >= 0 && b->hdr[n].level >= 2; i--) stack[sp++] = ch[i];
+        for (int i = b->hdr[n].count - 1; i >= 0; i--) stack[sp++] = ch[i];
     }
     if (d->touch_oom) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
     for (uint32_t n = 0; n < d->rec_cap; n++) {
         d->rec_of[n] = d->grp_of[n] = TT_INVALID_ID;
         d->grp_hi[n] = 0;
     }
-    d->free_grp_count = d->free_reg_count = d->pend_grp_count = d->pend_reg_count = 0;
+    d->free_grp_count = d->pend_grp_count = d->pend_reg_count = 0;
+    for (int k = 0; k < RT_DYN_REGION_CLASSES; k++) d->free_reg_count[k] = 0;
+    d->free_reg_blocks = 0;
     rtc_tree fresh;
     memset(&fresh, 0, sizeof fresh);
     fresh.c.M = M;
@@ -541,8 +597,8 @@ static tt_status lay_start_full(rt_dyn *d, rtc_tree *t)
     fresh.c.words = tt_rtc_words(M);
     fresh.c.nodes = 1; /* the root's record */
     d->lay_rec_cap = d->lay_blk_cap = 0;
-    const uint64_t recs = 1 + groups * M, blks = regions * region_blocks(d);
-    tt_status st = lay_reserve(d, &fresh, recs + recs / 4, blks + blks / 4);
+    const uint64_t recs = 1 + groups * M;
+    tt_status st = lay_reserve(d, &fresh, recs + recs / 8, blocks + blocks / 8);
     if (st != TT_OK) {
         rtc_free(ctx, &fresh);
         d->slack = 0;
@@ -579,8 +635,7 @@ tt_status rt_dyn_sync(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *s
     const tt_rtc *c = &t->c;
     const int fragmented =
         (uint64_t)d->free_grp_count * c->M * DYN_COMPACT_FREE > c->nodes + 4u * c->M ||
-        (uint64_t)d->free_reg_count * region_blocks(d) * DYN_COMPACT_FREE >
-            c->blocks + 4u * region_blocks(d);
+        d->free_reg_blocks * DYN_COMPACT_FREE > c->blocks + 64u;
     if (!d->slack || d->touch_oom || root != d->lay_root || height != d->lay_height ||
         fragmented) {
         d->touch_oom = 0;
@@ -591,22 +646,22 @@ tt_status rt_dyn_sync(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *s
             for (uint32_t i = 0; i < c->M; i++) record_clear(c, d->pend_grp[k] + i);
             st = push(ctx, &d->free_grp, &d->free_grp_count, &d->free_grp_cap, d->pend_grp[k]);
         }
-        for (uint32_t k = 0; k < d->pend_reg_count && st == TT_OK; k++) {
-            lanes_clear(c, (uint64_t)d->pend_reg[k] * TT_TRI_BLOCK_W,
-                        (uint64_t)region_blocks(d) * TT_TRI_BLOCK_W);
-            st = push(ctx, &d->free_reg, &d->free_reg_count, &d->free_reg_cap, d->pend_reg[k]);
-        }
+        for (uint32_t k = 0; k < d->pend_reg_count && st == TT_OK; k++)
+            st = free_region(d, c, d->pend_reg[k]);
         d->pend_grp_count = d->pend_reg_count = 0;
         if (st != TT_OK) return st;
     }
-    /* 1. closure (a touched node's box in its parent changed) and a group
-     *    or region for every touched node without one */
+    /* 1. closure (a touched node's box in its parent changed), a group for
+     *    every touched node above level 1 without one, a region of the
+     *    right size for every touched level-1 node */
     for (uint32_t k = 0; k < d->touch_count && st == TT_OK; k++) {
         const uint32_t n = d->touch_list[k];
         if (n >= d->rec_cap || b->hdr[n].pad) continue; /* freed */
-        if (b->hdr[n].parent != TT_INVALID_ID && n != root) rt_dyn_touch(d, b->hdr[n].parent);
-        if (b->hdr[n].level >= 1 && d->grp_of[n] == TT_INVALID_ID)
-            st = lay_alloc(d, t, b->hdr[n].level, &d->grp_of[n]);
+        if (n != root && b->hdr[n].parent != TT_INVALID_ID) rt_dyn_touch(d, b->hdr[n].parent);
+        if (b->hdr[n].level >= 2 && d->grp_of[n] == TT_INVALID_ID)
+            st = alloc_group(d, t, &d->grp_of[n]);
+        else if (b->hdr[n].level == 1)
+            st = fit_region(d, t, n);
     }
     /* 2. the touched nodes' records (children that moved join the list) */
     for (uint32_t k = 0; k < d->touch_count && st == TT_OK; k++) {
