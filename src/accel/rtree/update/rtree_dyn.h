@@ -123,6 +123,12 @@ void rt_dyn_release(rt_dyn *d, uint32_t n);
 /* rt_builder.touch for the pointer tree of d. */
 void rt_dyn_touch(void *d, uint32_t n);
 
+/* A pure deformation (every live triangle in the tree, none added or
+ * removed): boxes refit from the vertices, lanes and records written, in
+ * one walk of the tree. Returns 0 (nothing done) where the general path
+ * must run: a lone leaf as root, or a layout still to be rewritten. */
+int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads);
+
 /* The whole update: the ids stamped after `since` (tt_accel_update). */
 tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *scene,
                         uint64_t since);

@@ -686,3 +686,78 @@ tt_status rt_dyn_sync(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *s
     d->lay_words = t->c.words;
     return TT_OK;
 }
+
+/* ------------------------------------------ a deformation in one walk */
+
+/* Node n refit from the scene's vertices and written into the layout in
+ * the same visit: a leaf's triangles get their boxes (tri_box and the
+ * leaf's entries) and their lanes, an interior node its entries from its
+ * children and its record's boxes; *out the union of n's entries. One walk
+ * instead of four passes (bounds, refit, lanes, records), each of which
+ * went over the whole tree or every id once more. */
+static void deform_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
+                        float out[6])
+{
+    const rt_builder *b = &d->b;
+    const uint32_t *ch = rt_node_child(b, n);
+    float *s = rt_node_box(b, n);
+    const int cap = b->cap, cnt = b->hdr[n].count;
+    rt_box_empty(out);
+    if (b->hdr[n].level == 0) {
+        /* locals throughout: the stores through tri_box, the entries and
+         * the lanes would otherwise make the compiler reload everything */
+        float lo[3] = {TT_INF, TT_INF, TT_INF}, hi[3] = {-TT_INF, -TT_INF, -TT_INF};
+        for (int i = 0; i < cnt; i++) {
+            const uint32_t id = ch[i];
+            float v[9], bx[6];
+            memcpy(v, scene->tri + 9 * (size_t)id, sizeof v);
+            for (int k = 0; k < 3; k++) {
+                bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
+                bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
+                lo[k] = rt_min(lo[k], bx[k]);
+                hi[k] = rt_max(hi[k], bx[k + 3]);
+            }
+            memcpy(d->tri_box + 6 * (size_t)id, bx, sizeof bx);
+            for (int k = 0; k < 6; k++) s[k * cap + i] = bx[k];
+            const uint32_t g = d->lane_of[id];
+            tt_tri_block *bk = (tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
+            const uint32_t l = g % TT_TRI_BLOCK_W;
+            if (tt_tri_is_degenerate(v, v + 3, v + 6)) /* as rtc_pack writes it */
+                for (int q = 0; q < 9; q++) v[q] = NAN;
+            for (int q = 0; q < 9; q++) bk->v[q][l] = v[q];
+        }
+        memcpy(out, lo, sizeof lo);
+        memcpy(out + 3, hi, sizeof hi);
+        return;
+    }
+    for (int i = 0; i < cnt; i++) {
+        float cb[6];
+        deform_node(d, c, scene, ch[i], cb);
+        for (int k = 0; k < 3; k++) {
+            s[k * cap + i] = cb[k];
+            s[(k + 3) * cap + i] = cb[k + 3];
+            out[k] = rt_min(out[k], cb[k]);
+            out[k + 3] = rt_max(out[k + 3], cb[k + 3]);
+        }
+    }
+    rtc_set_boxes(c, (float *)tt_rtc_node(c, d->rec_of[n]), s, (uint32_t)cap, (uint32_t)cnt);
+}
+
+int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads)
+{
+    const rt_builder *b = &d->b;
+    const uint32_t root = b->root;
+    if (b->hdr[root].level == 0 || d->must_repack) return 0; /* the general path */
+    const tt_rtc *c = &t->c;
+    const uint32_t *ch = rt_node_child(b, root);
+    const int cnt = b->hdr[root].count;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (int i = 0; i < cnt; i++) {
+        float cb[6];
+        deform_node(d, c, scene, ch[i], cb);
+        rt_soa_put(rt_node_box(b, root), b->cap, i, cb);
+    }
+    rtc_set_boxes(c, (float *)tt_rtc_node(c, d->rec_of[root]), rt_node_box(b, root),
+                  (uint32_t)b->cap, (uint32_t)cnt);
+    return 1;
+}
