@@ -259,6 +259,8 @@ static void rtree_statistics(const tt_accel *a, tt_stat_fn fn, void *user)
         rtc_statistics(&t->compact, fn, user);
         fn(user, "insert_s", t->insert_s);
         fn(user, "pack_s", t->pack_s);
+        /* updates keep the slack layout, compacted past this free share */
+        fn(user, "update_compaction_free", 1.0 / RT_DYN_COMPACT_FREE);
         if (t->dyn) { /* what the last tt_accel_update did */
             fn(user, "update_refit", (double)t->dyn->last_refit);
             fn(user, "update_removed", (double)t->dyn->last_removed);

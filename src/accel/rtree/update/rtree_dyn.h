@@ -16,6 +16,13 @@
 #include "accel/rtree/rtc.h"
 #include "io/scene.h"
 
+/* Free groups or region blocks past 1 / RT_DYN_COMPACT_FREE of the
+ * records or blocks make the next layout sync a compaction: the slack
+ * layout rewritten fresh, depth first, which also restores the
+ * traversal's memory locality (`update_compaction_free` in the statistics
+ * and `treetrace info`). */
+#define RT_DYN_COMPACT_FREE 4
+
 typedef struct rt_dyn {
     rt_builder b;
     float *tri_box;      /* 6 floats an id: the box the tree holds it with  */
@@ -71,7 +78,7 @@ typedef struct rt_dyn {
     /* what the last update did, for the statistics and the bench */
     uint64_t last_refit, last_removed, last_inserted, last_moved_far, updates, repacks;
     /* compactions: full rewrites of the slack layout (the first, a change
-     * of height, or free groups / regions past DYN_COMPACT_FREE of it);
+     * of height, or free groups / regions past RT_DYN_COMPACT_FREE of it);
      * last_records / last_blocks: what the last sync wrote */
     uint64_t compactions, last_records, last_blocks;
     double last_tree_s, last_layout_s;

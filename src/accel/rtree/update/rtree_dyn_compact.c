@@ -275,11 +275,6 @@ void rt_dyn_write_all_boxes(rt_dyn *d, rtc_tree *t, int threads)
 
 /* ------------------------------------------------- the slack layout */
 
-/* Free groups or region blocks past this fraction of the records or
- * blocks (1 / DYN_COMPACT_FREE) make the next sync a compaction: the
- * layout is rewritten fresh, depth first, which also restores the
- * traversal's memory locality. */
-#define DYN_COMPACT_FREE 4
 #define REG_CLASS_SHIFT 26
 
 static tt_status push(tt_context *ctx, uint32_t **a, uint32_t *count, uint32_t *cap, uint32_t v)
@@ -634,8 +629,8 @@ tt_status rt_dyn_sync(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *s
     }
     const tt_rtc *c = &t->c;
     const int fragmented =
-        (uint64_t)d->free_grp_count * c->M * DYN_COMPACT_FREE > c->nodes + 4u * c->M ||
-        d->free_reg_blocks * DYN_COMPACT_FREE > c->blocks + 64u;
+        (uint64_t)d->free_grp_count * c->M * RT_DYN_COMPACT_FREE > c->nodes + 4u * c->M ||
+        d->free_reg_blocks * RT_DYN_COMPACT_FREE > c->blocks + 64u;
     if (!d->slack || d->touch_oom || root != d->lay_root || height != d->lay_height ||
         fragmented) {
         d->touch_oom = 0;
