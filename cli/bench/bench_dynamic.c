@@ -37,6 +37,7 @@ typedef struct dyn_row {
     double memory;
     double refit, removed, inserted; /* < 0: not treetrace */
     const char *layout;
+    double compactions; /* the slack layout's, so far */
 } dyn_row;
 
 static void num(FILE *f, double v, const char *fmt)
@@ -164,6 +165,7 @@ static void stat_update(void *user, const char *key, double v)
     if (strcmp(key, "update_refit") == 0) r->refit = v;
     else if (strcmp(key, "update_removed") == 0) r->removed = v;
     else if (strcmp(key, "update_inserted") == 0) r->inserted = v;
+    else if (strcmp(key, "update_compactions") == 0) r->compactions = v;
 }
 
 /* A fresh default build of the frame: its SAH cost and trace time. */
@@ -293,6 +295,7 @@ static int run_sequence(dyn_run *r, const bench_scene *bs, dyn_mode mode, dyn_ra
         sum_emb[q] = sum_open(r, bs->name, mode_name[mode], emb_name[q]);
     }
     unsigned seed = 1;
+    double compactions = 0;
     for (int f = 0; f <= frames; f++) {
         double upd_ms = build_ms;
         if (f > 0) {
@@ -312,15 +315,19 @@ static int run_sequence(dyn_run *r, const bench_scene *bs, dyn_mode mode, dyn_ra
             if (st != TT_OK) goto fail_tt;
         }
         dyn_row row = {bs->name, mode_name[mode], "treetrace", f, tt_scene_live_triangle_count(sc),
-                       upd_ms, 0, 0, -1, -1, -1, 0, -1, -1, -1, NULL};
+                       upd_ms, 0, 0, -1, -1, -1, 0, -1, -1, -1, NULL, 0};
         st = trace_tt(a, sc, R, &row.primary_ms, &row.shadow_ms);
         if (st != TT_OK) goto fail_tt;
         row.sah = sah_of(a);
         row.memory = (double)tt_accel_memory_bytes(a);
         if (f > 0) {
-            row.refit = row.removed = row.inserted = 0;
+            row.refit = row.removed = row.inserted = row.compactions = 0;
             tt_accel_statistics(a, stat_update, &row);
-            row.layout = row.removed + row.inserted > 0 ? "repack" : "inplace";
+            /* inplace: only the touched records and blocks were written;
+             * compact: the slack layout was rewritten whole (the first
+             * update, a change of height, or fragmentation) */
+            row.layout = row.compactions > compactions ? "compact" : "inplace";
+            compactions = row.compactions;
         }
         if (f == frames || f % DYN_FRESH_EVERY == 0) {
             st = fresh(r, sc, R, &row);
@@ -334,7 +341,7 @@ static int run_sequence(dyn_run *r, const bench_scene *bs, dyn_mode mode, dyn_ra
             if (!emb[q]) continue;
             dyn_row er = {bs->name, mode_name[mode], emb_name[q], f,
                           tt_scene_live_triangle_count(sc), emb_first[q], 0, 0, -1, -1, -1, 0,
-                          -1, -1, -1, NULL};
+                          -1, -1, -1, NULL, 0};
             if (f > 0) {
                 if (mode != GROWTH) bench_emb_set(emb[q], emb_buf, tt_scene_triangle_count(sc));
                 er.update_ms = 1e3 * bench_emb_commit(emb[q]);

@@ -238,6 +238,99 @@ static void empty_and_back(tt_context *ctx)
     tt_scene_destroy(scene);
 }
 
+/* One statistic of an accel (NAN: not reported). */
+typedef struct stat_find {
+    const char *key;
+    double value;
+} stat_find;
+static void stat_cb(void *user, const char *key, double value)
+{
+    stat_find *f = user;
+    if (strcmp(key, f->key) == 0) f->value = value;
+}
+static double stat_of(const tt_accel *a, const char *key)
+{
+    stat_find f = {key, NAN};
+    (void)tt_accel_statistics(a, stat_cb, &f);
+    return f.value;
+}
+
+/* The slack layout (rtree/update/rtree_dyn.h) over many small frames:
+ * groups and regions freed and reused, compaction when fragmented, and
+ * between compactions only the touched records written: checked and
+ * compared every frame, and the in-place path must carry most frames. */
+static void edits_in_place(tt_context *ctx)
+{
+    tt_scene *scene = tt_test_load_scene(ctx, "bun_zipper_res4.ply");
+    subject s[3];
+    tt_build_options o;
+    tt_build_options_default(&o);
+    s[0] = (subject){"rtree sah compact", o, NULL};
+    o.rtree.build = TT_RTREE_BUILD_INSERT;
+    o.rtree.M = 8;
+    o.rtree.m = 3;
+    s[1] = (subject){"rtree insert compact M8", o, NULL};
+    tt_build_options_default(&o);
+    o.rtree.M = 5;
+    o.rtree.m = 2;
+    s[2] = (subject){"rtree sah compact M5", o, NULL};
+    const int n = 3;
+    tt_accel *bf;
+    build_all(ctx, scene, s, n, &bf);
+    float lo[3], hi[3];
+    tt_scene_bounds(scene, lo, hi);
+    const size_t T = tt_scene_triangle_count(scene);
+    const int frames = 40;
+    for (int f = 1; f <= frames; f++) {
+        /* 1-2% replaced, about half near where they were, half anywhere */
+        const size_t k = T / 100 + 1 + (size_t)(f % 2) * (T / 100);
+        uint32_t ids[64], got[64];
+        float tri[64 * 9];
+        size_t m = 0;
+        while (m < k && m < 64) {
+            uint32_t id = next_u32() % (uint32_t)tt_scene_triangle_count(scene);
+            int dup = !tt_scene_triangle_alive(scene, id);
+            for (size_t j = 0; j < m && !dup; j++) dup = ids[j] == id;
+            if (!dup) ids[m++] = id;
+        }
+        for (size_t j = 0; j < m; j++) {
+            float c[3];
+            const float *old = scene->tri + 9 * (size_t)ids[j];
+            for (int a = 0; a < 3; a++)
+                c[a] = j % 2 ? lo[a] + next_f() * (hi[a] - lo[a]) : old[a] + 0.01f * next_f();
+            random_triangle(tri + 9 * j, c, 0.01f * (hi[0] - lo[0]));
+        }
+        CHECK_OK(ctx, tt_scene_remove_triangles(scene, ids, m));
+        if (f % 7 == 0) verify(ctx, scene, bf, s, n, "in place: removed only", f);
+        CHECK_OK(ctx, tt_scene_add_triangles(scene, tri, m, got));
+        verify(ctx, scene, bf, s, n, "in place: edits", f);
+    }
+    for (int i = 0; i < n; i++) {
+        const double comp = stat_of(s[i].a, "update_compactions");
+        const double recs = stat_of(s[i].a, "update_records_written");
+        const double nodes = stat_of(s[i].a, "nodes");
+        CHECK_MSG(comp >= 1 && comp < frames / 2, "%s: %g compactions in %d frames", s[i].label,
+                  comp, frames);
+        CHECK_MSG(recs > 0 && !(recs >= nodes), "%s: the last frame wrote %g records of %g",
+                  s[i].label, recs, nodes);
+    }
+    /* everything removed and back, through the in-place path */
+    uint32_t *all = malloc(T * sizeof *all);
+    size_t live = 0;
+    for (uint32_t id = 0; id < tt_scene_triangle_count(scene); id++)
+        if (tt_scene_triangle_alive(scene, id)) all[live++] = id;
+    float *tri = malloc(live * 9 * sizeof(float));
+    for (size_t j = 0; j < live; j++) memcpy(tri + 9 * j, scene->tri + 9 * (size_t)all[j], 36);
+    CHECK_OK(ctx, tt_scene_remove_triangles(scene, all, live));
+    verify(ctx, scene, bf, s, n, "in place: all removed", 0);
+    CHECK_OK(ctx, tt_scene_add_triangles(scene, tri, live, all));
+    verify(ctx, scene, bf, s, n, "in place: all back", 0);
+    free(all);
+    free(tri);
+    destroy_all(s, n, bf);
+    tt_scene_destroy(scene);
+}
+
 /* Bad input: a clear error and nothing changed. */
 static void bad_edits(tt_context *ctx)
 {
@@ -312,6 +405,7 @@ int main(void)
     bad_edits(ctx);
     empty_and_back(ctx);
     frames_on_bunny(ctx);
+    edits_in_place(ctx);
     tt_context_destroy(ctx);
     return tt_test_finish();
 }

@@ -62,7 +62,7 @@ int main(void)
     CHECK(out && strstr(out, "scene,mode,engine,frame,triangles,update_ms") &&
           strstr(out, "bunny_res4,deform,treetrace,2,") && strstr(out, "bunny_res4,edits,treetrace,2,") &&
           strstr(out, "bunny_res4,growth,treetrace,2,") && strstr(out, ",inplace") &&
-          strstr(out, ",repack"));
+          strstr(out, ",compact"));
     free(out);
 
     remove_tree(scenes);

@@ -278,6 +278,8 @@ static void rtree_statistics(const tt_accel *a, tt_stat_fn fn, void *user)
         rtc_statistics(&t->compact, fn, user);
         fn(user, "insert_s", t->insert_s);
         fn(user, "pack_s", t->pack_s);
+        /* updates keep the slack layout, compacted past this free share */
+        fn(user, "update_compaction_free", 1.0 / RT_DYN_COMPACT_FREE);
         if (t->dyn) { /* what the last tt_accel_update did */
             fn(user, "update_refit", (double)t->dyn->last_refit);
             fn(user, "update_removed", (double)t->dyn->last_removed);
@@ -286,6 +288,11 @@ static void rtree_statistics(const tt_accel *a, tt_stat_fn fn, void *user)
             fn(user, "update_tree_s", t->dyn->last_tree_s);
             fn(user, "update_layout_s", t->dyn->last_layout_s);
             fn(user, "update_repacks", (double)t->dyn->repacks);
+            /* the slack layout (rtree_dyn.h): full rewrites, and what the
+             * last update wrote in place */
+            fn(user, "update_compactions", (double)t->dyn->compactions);
+            fn(user, "update_records_written", (double)t->dyn->last_records);
+            fn(user, "update_blocks_written", (double)t->dyn->last_blocks);
         }
         return;
     }

@@ -116,6 +116,7 @@ void rt_node_bounds(const rt_builder *b, uint32_t n, float out[6])
 static void add_entry(rt_builder *b, uint32_t n, const float e[6], uint32_t c)
 {
     int i = b->hdr[n].count++;
+    rt_builder_touch(b, n);
     rt_soa_put(rt_node_box(b, n), b->cap, i, e);
     rt_node_child(b, n)[i] = c;
     if (b->hdr[n].level > 0) {
@@ -139,6 +140,7 @@ static void tighten(rt_builder *b, uint32_t n)
         rt_soa_get(ps, b->cap, b->hdr[n].slot, old);
         if (rt_box_equal(old, nb)) return;
         rt_soa_put(ps, b->cap, b->hdr[n].slot, nb);
+        rt_builder_touch(b, p);
         n = p;
     }
 }
@@ -335,6 +337,7 @@ static tt_status split_node(rt_builder *b, uint32_t n)
         }
     }
     b->hdr[n].count = (uint8_t)kept;
+    rt_builder_touch(b, n);
 
     float nb[6], n2b[6];
     rt_node_bounds(b, n, nb);
@@ -347,7 +350,7 @@ static tt_status split_node(rt_builder *b, uint32_t n)
     }
     uint32_t p = b->hdr[n].parent;
     rt_soa_put(rt_node_box(b, p), cap, b->hdr[n].slot, nb);
-    add_entry(b, p, n2b, n2);
+    add_entry(b, p, n2b, n2); /* touches p */
     /* overflow treatment propagates upwards */
     if (b->hdr[p].count > b->M) return overflow(b, p);
     return TT_OK;
@@ -403,6 +406,7 @@ static tt_status reinsert(rt_builder *b, uint32_t n)
         kept++;
     }
     b->hdr[n].count = (uint8_t)kept;
+    rt_builder_touch(b, n);
     tighten(b, n);
     for (int k = 0; k < p; k++) {
         int e = b->reinsert_far ? k : p - 1 - k;
@@ -431,6 +435,7 @@ static tt_status insert_entry(rt_builder *b, const float e[6], uint32_t c, int l
         int i = choose_entry(b, n, e);
         float *s = rt_node_box(b, n);
         const int cap = b->cap;
+        rt_builder_touch(b, n);
         for (int k = 0; k < 3; k++) {
             s[k * cap + i] = rt_min(s[k * cap + i], e[k]);
             s[(k + 3) * cap + i] = rt_max(s[(k + 3) * cap + i], e[k + 3]);

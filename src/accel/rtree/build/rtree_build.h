@@ -58,7 +58,19 @@ typedef struct rt_builder {
     uint32_t *leaf_of;
     uint32_t *free_node;
     uint32_t free_count;
+    /* touch(touch_user, n): node n's entries or their boxes changed (an
+     * entry added, removed, moved within n, or a box grown or tightened),
+     * so the dynamic update rewrites what the compact layout holds of it
+     * (rtree_dyn_compact.c); NULL for a one-shot build */
+    void (*touch)(void *user, uint32_t n);
+    void *touch_user;
 } rt_builder;
+
+/* Tells the dynamic update that node n changed (rt_builder.touch). */
+static inline void rt_builder_touch(const rt_builder *b, uint32_t n)
+{
+    if (b->touch) b->touch(b->touch_user, n);
+}
 
 /* The six bound arrays of node n: b[k * cap + i] is bound k of entry i. */
 static inline float *rt_node_box(const rt_builder *b, uint32_t n)

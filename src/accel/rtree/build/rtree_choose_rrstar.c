@@ -45,25 +45,29 @@ int rt_choose_rrstar(const rt_builder *b, uint32_t n, const float e[6])
     const int cnt = b->hdr[n].count, cap = b->cap;
     if (cnt <= 1) return 0;
     const float *s = rt_node_box(b, n);
+    /* 1: covering entries, straight from the rows (when one covers, and
+     * high in the tree one mostly does, nothing else is computed) */
+    int best = -1;
+    float bv = 0.0f, bm = 0.0f;
+    for (int i = 0; i < cnt; i++) {
+        if (!(s[i] <= e[0] && s[cap + i] <= e[1] && s[2 * cap + i] <= e[2] &&
+              s[3 * cap + i] >= e[3] && s[4 * cap + i] >= e[4] && s[5 * cap + i] >= e[5]))
+            continue;
+        float c[6];
+        rt_soa_get(s, cap, i, c);
+        const float vi = rt_box_volume(c), mi = margin(c);
+        if (best < 0 || vi < bv || (vi == bv && mi < bm)) {
+            best = i;
+            bv = vi;
+            bm = mi;
+        }
+    }
+    if (best >= 0) return best;
     float ent[TT_RT_CAP][6], grown[TT_RT_CAP][6];
     for (int i = 0; i < cnt; i++) {
         rt_soa_get(s, cap, i, ent[i]);
         unite(ent[i], e, grown[i]);
     }
-    /* 1: covering entries */
-    int best = -1;
-    for (int i = 0; i < cnt; i++) {
-        if (!(ent[i][0] <= e[0] && ent[i][1] <= e[1] && ent[i][2] <= e[2] && ent[i][3] >= e[3] &&
-              ent[i][4] >= e[4] && ent[i][5] >= e[5]))
-            continue;
-        if (best < 0) {
-            best = i;
-            continue;
-        }
-        const float vi = rt_box_volume(ent[i]), vb = rt_box_volume(ent[best]);
-        if (vi < vb || (vi == vb && margin(ent[i]) < margin(ent[best]))) best = i;
-    }
-    if (best >= 0) return best;
     /* 2: ascending perimeter enlargement (insertion sort, stable) */
     int order[TT_RT_CAP];
     float dm[TT_RT_CAP];

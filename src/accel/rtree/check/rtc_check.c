@@ -16,11 +16,13 @@
  *     64-bit set of the node's tested blocks); every triangle
  *     id exactly once, its lanes the scene's vertices (NaN for a zero-area
  *     triangle, as tt_tri_block_pack writes them); lanes of no leaf NaN
- *     with no id.
+ *     with no id;
+ *  5. records the walk does not reach are free (tt_rtc_is_free): the slack
+ *     of a layout updated in place (rtree/update/).
  * Mixed records (the wide BVH's, wbvh/wbvh.h: the root's level field 0):
  * every record says level 0 and lies at most `height` records deep; its
- * leaf entries come first, its node entries after them (consecutive nodes
- * after it), and the leaf span rule of 4 holds for its leaves.
+ * leaf entries come first, its node entries after them (consecutive
+ * nodes), and the leaf span rule of 4 holds for its leaves.
  */
 #include <math.h>
 #include <string.h>
@@ -137,9 +139,9 @@ static tt_status check_node(walk *w, uint32_t n, uint32_t l, uint32_t parent, fl
                         "node's span from block %u", i, n, tt_rtc_leaf_block(ref[i]),
                         tt_rtc_leaf_block(ref[0]));
     for (uint32_t i = leaves; i < cnt; i++)
-        if (tt_rtc_is_leaf(ref[i]) || ref[i] != ref[leaves] + i - leaves || ref[leaves] <= n)
+        if (tt_rtc_is_leaf(ref[i]) || ref[i] != ref[leaves] + i - leaves || ref[leaves] == n)
             return FAIL("rtree compact: the children of node %u are not consecutive nodes "
-                        "after it (entry %u is node %u)", n, i, ref[i]);
+                        "(entry %u is node %u)", n, i, ref[i]);
     rt_box_empty(box);
     for (uint32_t i = 0; i < c->S; i++) {
         float cb[6];
@@ -193,8 +195,9 @@ tt_status rtc_check(tt_context *ctx, const rtc_tree *t, const tt_scene *scene)
     w.mixed = c->nodes > 0 && tt_rtc_level(c, tt_rtc_node(c, 0)) == 0;
     if (st == TT_OK) st = check_node(&w, 0, c->height, TT_INVALID_ID, root);
     for (uint32_t n = 0; st == TT_OK && n < c->nodes; n++)
-        if (!w.reached[n])
-            st = tt_error(ctx, TT_ERR_INVARIANT, "rtree compact: node %u is not in the tree", n);
+        if (!w.reached[n] && !tt_rtc_is_free(c, tt_rtc_node(c, n)))
+            st = tt_error(ctx, TT_ERR_INVARIANT,
+                          "rtree compact: node %u is not in the tree and not marked free", n);
     if (st == TT_OK) st = check_free_lanes(&w);
     size_t stored = 0;
     for (size_t id = 0; st == TT_OK && id < scene->triangle_count; id++) {

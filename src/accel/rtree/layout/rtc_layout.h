@@ -130,6 +130,21 @@ TT_HD const tt_tri_block *tt_rtc_leaf_blocks(const tt_rtc *t, uint32_t ref, uint
     return t->block + tt_rtc_leaf_block(ref);
 }
 
+/* A free record, which no reference names: the slack of a layout updated
+ * in place (rtree/update/rtree_dyn.h keeps groups of M records per node).
+ * Every child box +inf, every reference and the parent TT_INVALID_ID, no
+ * entries, level 0 (a used record's level is >= 1). */
+static inline int tt_rtc_is_free(const tt_rtc *t, const float *rec)
+{
+    const uint32_t *w = (const uint32_t *)(rec + 6 * t->S);
+    if (w[t->S] != TT_INVALID_ID || w[t->S + 1] != 0) return 0;
+    for (uint32_t i = 0; i < t->S; i++)
+        if (w[i] != TT_INVALID_ID) return 0;
+    for (uint32_t i = 0; i < 6 * t->S; i++)
+        if (!(rec[i] == TT_INF)) return 0;
+    return 1;
+}
+
 /* The record size for M entries: 7 S + 2 words rounded up to 16 words. */
 static inline uint32_t tt_rtc_words(uint32_t M)
 {

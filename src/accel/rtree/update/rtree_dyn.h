@@ -16,6 +16,13 @@
 #include "accel/rtree/rtc.h"
 #include "io/scene.h"
 
+/* Free groups or region blocks past 1 / RT_DYN_COMPACT_FREE of the
+ * records or blocks make the next layout sync a compaction: the slack
+ * layout rewritten fresh, depth first, which also restores the
+ * traversal's memory locality (`update_compaction_free` in the statistics
+ * and `treetrace info`). */
+#define RT_DYN_COMPACT_FREE 4
+
 typedef struct rt_dyn {
     rt_builder b;
     float *tri_box;      /* 6 floats an id: the box the tree holds it with  */
@@ -23,12 +30,43 @@ typedef struct rt_dyn {
     size_t id_cap;       /* ids the three per-id arrays hold                 */
     uint32_t *free_node; /* b.free_node's storage                            */
     uint32_t free_cap;
-    /* the compact layout's places of the pointer tree's parts (rebuilt by
-     * every repack): rec_of[node] the record of an interior node, lane_of[id]
-     * the global triangle lane of an id */
+    /* the compact layout's places of the pointer tree's parts: rec_of[node]
+     * the record of an interior node (in the slack layout: the first block
+     * of a leaf), lane_of[id] the global triangle lane of an id */
     uint32_t *rec_of;
     uint32_t rec_cap;
     uint32_t *lane_of;
+    /* The slack layout (rtree_dyn_compact.c), which in-place updates keep:
+     * every node above level 1 owns a group of M consecutive records for
+     * its children; every level-1 node a region of 2^k blocks (k: grp_hi)
+     * into which its leaves are packed as rtc_pack packs them (first fit,
+     * in entry order). An entry added or removed rewrites its node's
+     * record and, on level 1, its region; a region too small (or four
+     * times too big) is exchanged for one of the right size. grp_of[node]
+     * the group's first record / the region's first block; grp_hi[node]
+     * the group's slots written (those past the count are cleared on a
+     * shrink) / the region's size class. Groups and regions of freed
+     * nodes wait in pend_* until the next sync clears them, then in free_*
+     * (regions by class) for reuse. */
+    uint32_t *grp_of;
+    uint8_t *grp_hi;
+    uint32_t *free_grp, free_grp_count, free_grp_cap;
+#define RT_DYN_REGION_CLASSES 6 /* 1 .. 32 = 2 M blocks */
+    uint32_t *free_reg[RT_DYN_REGION_CLASSES], free_reg_count[RT_DYN_REGION_CLASSES],
+        free_reg_cap[RT_DYN_REGION_CLASSES];
+    uint64_t free_reg_blocks;
+    uint32_t *pend_grp, pend_grp_count, pend_grp_cap;
+    uint32_t *pend_reg, pend_reg_count, pend_reg_cap; /* block | class << 26 */
+    uint32_t lay_rec_cap, lay_blk_cap;   /* records / blocks allocated   */
+    uint32_t lay_rec_used, lay_blk_used; /* ... in use (c.nodes, c.blocks) */
+    uint32_t lay_words;
+    uint32_t lay_root, lay_height;     /* the root the layout was synced with */
+    int slack;                         /* the layout is the slack one    */
+    /* nodes touched since the last layout sync (rt_builder.touch) */
+    uint8_t *touched;
+    uint32_t touched_cap;
+    uint32_t *touch_list, touch_count, touch_list_cap;
+    int touch_oom;
     /* per-node dirty marks of one update and the nodes marked */
     uint8_t *dirty;
     uint32_t *dirty_list, dirty_count, dirty_cap;
@@ -39,6 +77,10 @@ typedef struct rt_dyn {
     size_t orphan_count, orphan_cap;
     /* what the last update did, for the statistics and the bench */
     uint64_t last_refit, last_removed, last_inserted, last_moved_far, updates, repacks;
+    /* compactions: full rewrites of the slack layout (the first, a change
+     * of height, or free groups / regions past RT_DYN_COMPACT_FREE of it);
+     * last_records / last_blocks: what the last sync wrote */
+    uint64_t compactions, last_records, last_blocks;
     double last_tree_s, last_layout_s;
     int must_repack; /* the layout's boxes predate the tree's (first update) */
 } rt_dyn;
@@ -78,6 +120,21 @@ void rt_dyn_write_lane(rt_dyn *d, rtc_tree *t, const tt_scene *scene, uint32_t i
 void rt_dyn_write_box(rt_dyn *d, rtc_tree *t, uint32_t node);
 /* Every node's box written into the layout (after rt_dyn_refit_all). */
 void rt_dyn_write_all_boxes(rt_dyn *d, rtc_tree *t, int threads);
+
+/* The slack layout brought up to date with the pointer tree: only the
+ * touched nodes' records and their leaves' blocks are written, unless a
+ * compaction is due (then all of it, fresh, depth first). */
+tt_status rt_dyn_sync(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *scene);
+/* Node n left the pointer tree: its group or region waits for the sync. */
+void rt_dyn_release(rt_dyn *d, uint32_t n);
+/* rt_builder.touch for the pointer tree of d. */
+void rt_dyn_touch(void *d, uint32_t n);
+
+/* A pure deformation (every live triangle in the tree, none added or
+ * removed): boxes refit from the vertices, lanes and records written, in
+ * one walk of the tree. Returns 0 (nothing done) where the general path
+ * must run: a lone leaf as root, or a layout still to be rewritten. */
+int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads);
 
 /* The whole update: the ids stamped after `since` (tt_accel_update). */
 tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *scene,

@@ -119,6 +119,8 @@ tt_status rt_dyn_from_compact(rt_dyn *d, tt_context *ctx, const tt_rtree_options
     map_all(d, c);
     /* the tree now holds the scene's boxes, the layout the old ones */
     d->must_repack = 1;
+    b->touch = rt_dyn_touch;
+    b->touch_user = d;
     return TT_OK;
 }
 
@@ -137,6 +139,14 @@ void rt_dyn_free(tt_context *ctx, rt_dyn *d)
     tt_free(ctx, d->orphan_box);
     tt_free(ctx, d->orphan_child);
     tt_free(ctx, d->orphan_level);
+    tt_free(ctx, d->grp_of);
+    tt_free(ctx, d->grp_hi);
+    tt_free(ctx, d->free_grp);
+    for (int k = 0; k < RT_DYN_REGION_CLASSES; k++) tt_free(ctx, d->free_reg[k]);
+    tt_free(ctx, d->pend_grp);
+    tt_free(ctx, d->pend_reg);
+    tt_free(ctx, d->touched);
+    tt_free(ctx, d->touch_list);
     memset(d, 0, sizeof *d);
 }
 
@@ -145,7 +155,11 @@ size_t rt_dyn_bytes(const rt_dyn *d)
     const size_t cap = (size_t)d->b.cap;
     return (size_t)d->b.node_cap * (sizeof(rt_node_hdr) + cap * 7 * sizeof(float)) +
            d->id_cap * (6 * sizeof(float) + 2 * sizeof(uint32_t)) +
-           (size_t)d->rec_cap * (2 * sizeof(uint32_t) + 1) + d->dirty_cap * sizeof(uint32_t);
+           (size_t)d->rec_cap * (3 * sizeof(uint32_t) + 2) + d->dirty_cap * sizeof(uint32_t) +
+           /* the slack layout's room to grow, past what rtc_bytes counts */
+           (d->slack ? (size_t)(d->lay_rec_cap - d->lay_rec_used) * d->lay_words * sizeof(float) +
+                           (size_t)(d->lay_blk_cap - d->lay_blk_used) * sizeof(tt_tri_block)
+                     : 0);
 }
 
 /* ---------------------------------------------------- the maps, repack */
@@ -257,4 +271,488 @@ void rt_dyn_write_all_boxes(rt_dyn *d, rtc_tree *t, int threads)
     const int cnt = b->hdr[root].count;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int i = 0; i < cnt; i++) write_boxes(d, c, ch[i]);
+}
+
+/* ------------------------------------------------- the slack layout */
+
+#define REG_CLASS_SHIFT 26
+
+static tt_status push(tt_context *ctx, uint32_t **a, uint32_t *count, uint32_t *cap, uint32_t v)
+{
+    if (*count == *cap) {
+        const uint32_t nc = *cap ? 2 * *cap : 64;
+        uint32_t *na = tt_realloc_array(ctx, *a, nc, sizeof *na);
+        if (!na) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
+        *a = na;
+        *cap = nc;
+    }
+    (*a)[(*count)++] = v;
+    return TT_OK;
+}
+
+void rt_dyn_touch(void *user, uint32_t n)
+{
+    rt_dyn *d = user;
+    if (n >= d->touched_cap) {
+        uint32_t cap = d->b.node_cap > n ? d->b.node_cap : n + 1;
+        uint8_t *t = tt_realloc_array(d->b.ctx, d->touched, cap, 1);
+        if (!t) {
+            d->touch_oom = 1;
+            return;
+        }
+        memset(t + d->touched_cap, 0, cap - d->touched_cap);
+        d->touched = t;
+        d->touched_cap = cap;
+    }
+    if (d->touched[n]) return;
+    if (push(d->b.ctx, &d->touch_list, &d->touch_count, &d->touch_list_cap, n) != TT_OK) {
+        d->touch_oom = 1;
+        return;
+    }
+    d->touched[n] = 1;
+}
+
+void rt_dyn_release(rt_dyn *d, uint32_t n)
+{
+    if (n >= d->rec_cap) return; /* made in this update: nothing of it is laid out */
+    const rt_builder *b = &d->b;
+    if (d->grp_of[n] != TT_INVALID_ID && d->slack) {
+        tt_status st = b->hdr[n].level >= 2
+                           ? push(b->ctx, &d->pend_grp, &d->pend_grp_count, &d->pend_grp_cap,
+                                  d->grp_of[n])
+                           : push(b->ctx, &d->pend_reg, &d->pend_reg_count, &d->pend_reg_cap,
+                                  d->grp_of[n] | (uint32_t)d->grp_hi[n] << REG_CLASS_SHIFT);
+        if (st != TT_OK) d->touch_oom = 1; /* lost: the next sync compacts */
+    }
+    d->grp_of[n] = d->rec_of[n] = TT_INVALID_ID;
+    d->grp_hi[n] = 0;
+    /* n's children, still listed, lose their places in the group (cleared
+     * at the sync and perhaps handed to a node that takes them at the same
+     * slots): so they are written again wherever they land */
+    if (b->hdr[n].level < 2) return;
+    const uint32_t *ch = rt_node_child(b, n);
+    for (int i = 0; i < b->hdr[n].count; i++)
+        if (ch[i] < d->rec_cap) d->rec_of[ch[i]] = TT_INVALID_ID;
+}
+
+/* Record r as the free mark every traversal skips and the check accepts
+ * (tt_rtc_is_free): +inf boxes, no references, no parent, no entries. */
+static void record_clear(const tt_rtc *c, uint32_t r)
+{
+    float *rec = (float *)tt_rtc_node(c, r);
+    for (uint32_t i = 0; i < 6 * c->S; i++) rec[i] = TT_INF;
+    uint32_t *w = (uint32_t *)(rec + 6 * c->S);
+    for (uint32_t i = 0; i < c->S + 1; i++) w[i] = TT_INVALID_ID;
+    for (uint32_t i = c->S + 1; i < c->words - 6 * c->S; i++) w[i] = 0;
+}
+
+static void lanes_clear(const tt_rtc *c, uint64_t first, uint64_t count)
+{
+    for (uint64_t g = first; g < first + count; g++) {
+        tt_tri_block *bk = (tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
+        const uint32_t l = (uint32_t)(g % TT_TRI_BLOCK_W);
+        for (int q = 0; q < 9; q++) bk->v[q][l] = NAN;
+        bk->prim[l] = TT_INVALID_ID;
+    }
+}
+
+/* The arrays grown (by half, copied) to hold `records` and `blocks`. */
+static tt_status lay_reserve(rt_dyn *d, rtc_tree *t, uint64_t records, uint64_t blocks)
+{
+    tt_context *ctx = d->b.ctx;
+    tt_rtc *c = &t->c;
+    if (records >= TT_RTC_LEAF_BIT || blocks >= (uint64_t)1 << TT_RTC_LEAF_BLOCK_BITS)
+        return tt_error(ctx, TT_ERR_OUT_OF_MEMORY,
+                        "rtree update: %llu records and %llu blocks are beyond 32-bit references",
+                        (unsigned long long)records, (unsigned long long)blocks);
+    if (records > d->lay_rec_cap) {
+        const uint64_t cap = records + records / 2 + 16;
+        const size_t rb = (size_t)c->words * sizeof(float);
+        void *raw = tt_alloc(ctx, (size_t)cap * rb + 63);
+        if (!raw) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
+        float *node = (float *)(((uintptr_t)raw + 63) & ~(uintptr_t)63);
+        if (c->node) memcpy(node, c->node, (size_t)c->nodes * rb);
+        tt_free(ctx, t->node_mem);
+        t->node_mem = raw;
+        c->node = node;
+        d->lay_rec_cap = (uint32_t)cap;
+    }
+    if (blocks > d->lay_blk_cap) {
+        const uint64_t cap = blocks + blocks / 2 + 16;
+        void *raw = tt_alloc(ctx, (size_t)cap * sizeof(tt_tri_block) + 63);
+        if (!raw) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
+        tt_tri_block *bk = (tt_tri_block *)(((uintptr_t)raw + 63) & ~(uintptr_t)63);
+        if (c->block) memcpy(bk, c->block, (size_t)c->blocks * sizeof(tt_tri_block));
+        tt_free(ctx, t->block_mem);
+        t->block_mem = raw;
+        c->block = bk;
+        d->lay_blk_cap = (uint32_t)cap;
+    }
+    return TT_OK;
+}
+
+/* A group of M free records, from the free list or the array's end. */
+static tt_status alloc_group(rt_dyn *d, rtc_tree *t, uint32_t *out)
+{
+    tt_rtc *c = &t->c;
+    if (d->free_grp_count) {
+        *out = d->free_grp[--d->free_grp_count];
+        return TT_OK;
+    }
+    tt_status st = lay_reserve(d, t, (uint64_t)c->nodes + c->M, c->blocks);
+    if (st != TT_OK) return st;
+    *out = c->nodes;
+    for (uint32_t i = 0; i < c->M; i++) record_clear(c, c->nodes + i);
+    c->nodes += c->M;
+    return TT_OK;
+}
+
+/* A region of 2^k unused blocks, from its class's free list or the end. */
+static tt_status alloc_region(rt_dyn *d, rtc_tree *t, uint32_t k, uint32_t *out)
+{
+    tt_rtc *c = &t->c;
+    if (d->free_reg_count[k]) {
+        *out = d->free_reg[k][--d->free_reg_count[k]];
+        d->free_reg_blocks -= 1u << k;
+        return TT_OK;
+    }
+    tt_status st = lay_reserve(d, t, c->nodes, (uint64_t)c->blocks + (1u << k));
+    if (st != TT_OK) return st;
+    *out = c->blocks;
+    lanes_clear(c, (uint64_t)c->blocks * TT_TRI_BLOCK_W, (uint64_t)TT_TRI_BLOCK_W << k);
+    c->blocks += 1u << k;
+    return TT_OK;
+}
+
+/* Region `v` (block | class << REG_CLASS_SHIFT) cleared and free. */
+static tt_status free_region(rt_dyn *d, const tt_rtc *c, uint32_t v)
+{
+    const uint32_t k = v >> REG_CLASS_SHIFT, blk = v & ((1u << REG_CLASS_SHIFT) - 1);
+    lanes_clear(c, (uint64_t)blk * TT_TRI_BLOCK_W, (uint64_t)TT_TRI_BLOCK_W << k);
+    d->free_reg_blocks += 1u << k;
+    return push(d->b.ctx, &d->free_reg[k], &d->free_reg_count[k], &d->free_reg_cap[k], blk);
+}
+
+/* The blocks level-1 node n's leaves fill, packed first fit in entry order
+ * (rtc_pack's place_leaf: a leaf of up to 8 triangles takes the lanes left
+ * in the last block when they suffice); first[i] gets leaf i's first lane
+ * (NULL: not wanted). */
+static uint32_t pack_leaves(const rt_builder *b, uint32_t n, uint32_t *first)
+{
+    const uint32_t *ch = rt_node_child(b, n);
+    uint32_t blocks = 0, used = 0;
+    for (int i = 0; i < b->hdr[n].count; i++) {
+        const uint32_t cnt = b->hdr[ch[i]].count;
+        uint32_t lane;
+        if (cnt <= TT_TRI_BLOCK_W && blocks > 0 && used + cnt <= TT_TRI_BLOCK_W) {
+            lane = (blocks - 1) * TT_TRI_BLOCK_W + used;
+            used += cnt;
+        } else {
+            const uint32_t nb = tt_tri_block_count(cnt);
+            lane = blocks * TT_TRI_BLOCK_W;
+            blocks += nb;
+            used = cnt - (nb - 1) * TT_TRI_BLOCK_W;
+        }
+        if (first) first[i] = lane;
+    }
+    return blocks;
+}
+
+static uint32_t class_of(uint32_t blocks)
+{
+    uint32_t k = 0;
+    while ((1u << k) < blocks) k++;
+    return k;
+}
+
+/* Level-1 node n's region fits its leaves: exchanged for one of the right
+ * class when too small or four times too big (the old one freed now: its
+ * leaves are all written again from the tree). */
+static tt_status fit_region(rt_dyn *d, rtc_tree *t, uint32_t n)
+{
+    const uint32_t need = pack_leaves(&d->b, n, NULL), k = class_of(need ? need : 1);
+    if (d->grp_of[n] != TT_INVALID_ID) {
+        const uint32_t have = d->grp_hi[n];
+        if (k <= have && (have == 0 || k + 2 > have)) return TT_OK;
+        tt_status st = free_region(d, &t->c, d->grp_of[n] | have << REG_CLASS_SHIFT);
+        d->grp_of[n] = TT_INVALID_ID;
+        if (st != TT_OK) return st;
+    }
+    d->grp_hi[n] = (uint8_t)k;
+    return alloc_region(d, t, k, &d->grp_of[n]);
+}
+
+/* Where interior node n's record is now: its slot in its parent's group. */
+static uint32_t lay_pos(const rt_dyn *d, uint32_t n)
+{
+    const rt_builder *b = &d->b;
+    return n == b->root ? 0 : d->grp_of[b->hdr[n].parent] + b->hdr[n].slot;
+}
+
+/* Level-1 node n's leaves into its region, packed; the rest of the region
+ * unused lanes. Returns nothing: the references go into ref. */
+static void write_region(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
+                         uint32_t *ref)
+{
+    const rt_builder *b = &d->b;
+    uint32_t first[TT_RT_CAP];
+    const uint32_t used = pack_leaves(b, n, first), blk = d->grp_of[n];
+    const uint64_t base = (uint64_t)blk * TT_TRI_BLOCK_W;
+    const uint32_t *ch = rt_node_child(b, n);
+    lanes_clear(c, base, (uint64_t)(1u << d->grp_hi[n]) * TT_TRI_BLOCK_W);
+    for (int i = 0; i < b->hdr[n].count; i++) {
+        const uint32_t l = ch[i], cnt = b->hdr[l].count, *id = rt_node_child(b, l);
+        for (uint32_t k = 0; k < cnt; k++) {
+            const uint64_t g = base + first[i] + k;
+            tt_tri_block *bk = (tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
+            const uint32_t lane = (uint32_t)(g % TT_TRI_BLOCK_W);
+            const float *v = scene->tri + 9 * (size_t)id[k];
+            const int dead = tt_tri_is_degenerate(v, v + 3, v + 6); /* as rtc_pack writes */
+            for (int q = 0; q < 9; q++) bk->v[q][lane] = dead ? NAN : v[q];
+            bk->prim[lane] = id[k];
+            d->lane_of[id[k]] = (uint32_t)g;
+        }
+        const uint64_t g0 = base + first[i];
+        ref[i] = tt_rtc_leaf_ref((uint32_t)(g0 / TT_TRI_BLOCK_W), (uint32_t)(g0 % TT_TRI_BLOCK_W),
+                                 cnt);
+        d->rec_of[l] = TT_INVALID_ID;
+    }
+    d->last_blocks += used;
+}
+
+/* Interior node n's record at its place: header, boxes, references; a
+ * level-1 node's region written whole; children records elsewhere than
+ * their slot in n's group are touched (written later in the same sync). */
+static void write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n)
+{
+    const rt_builder *b = &d->b;
+    const uint32_t r = lay_pos(d, n), cnt = b->hdr[n].count, level = b->hdr[n].level;
+    const int moved = d->rec_of[n] != r;
+    d->rec_of[n] = r;
+    float *rec = (float *)tt_rtc_node(c, r);
+    uint32_t *ref = (uint32_t *)(rec + 6 * c->S);
+    rtc_set_boxes(c, rec, rt_node_box(b, n), (uint32_t)b->cap, cnt);
+    ref[c->S] = n == b->root ? TT_INVALID_ID : lay_pos(d, b->hdr[n].parent);
+    ref[c->S + 1] = cnt | level << 8;
+    d->last_records++;
+    if (level >= 2) {
+        const uint32_t g = d->grp_of[n], *ch = rt_node_child(b, n);
+        for (uint32_t i = 0; i < cnt; i++) {
+            ref[i] = g + i;
+            if (d->rec_of[ch[i]] != g + i) rt_dyn_touch(d, ch[i]);
+            else if (moved) /* the child stays, its parent link follows n */
+                ((uint32_t *)tt_rtc_child(c, tt_rtc_node(c, g + i)))[c->S] = r;
+        }
+        for (uint32_t i = cnt; i < d->grp_hi[n]; i++) record_clear(c, g + i);
+        d->grp_hi[n] = (uint8_t)cnt;
+    } else {
+        write_region(d, c, scene, n, ref);
+    }
+    for (uint32_t i = cnt; i < c->S; i++) ref[i] = TT_INVALID_ID;
+}
+
+/* A compaction: fresh arrays sized to the tree (with a quarter to grow
+ * into), every interior node touched in depth-first order, so that the
+ * groups and regions are handed out in that order. */
+static tt_status lay_start_full(rt_dyn *d, rtc_tree *t)
+{
+    rt_builder *b = &d->b;
+    tt_context *ctx = b->ctx;
+    const uint32_t M = (uint32_t)b->M;
+    for (uint32_t k = 0; k < d->touch_count; k++) d->touched[d->touch_list[k]] = 0;
+    d->touch_count = 0;
+    uint64_t groups = 0, blocks = 0;
+    uint32_t stack[TT_RT_BUILD_LEVELS * TT_RT_CAP];
+    int sp = 0;
+    stack[sp++] = b->root;
+    while (sp > 0) {
+        const uint32_t n = stack[--sp];
+        rt_dyn_touch(d, n);
+        groups += b->hdr[n].level >= 2;
+        if (b->hdr[n].level == 1) {
+            const uint32_t need = pack_leaves(b, n, NULL);
+            blocks += 1u << class_of(need ? need : 1);
+            continue;
+        }
+        const uint32_t *ch = rt_node_child(b, n);
+        for (int i = b->hdr[n].count - 1; i >= 0; i--) stack[sp++] = ch[i];
+    }
+    if (d->touch_oom) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
+    for (uint32_t n = 0; n < d->rec_cap; n++) {
+        d->rec_of[n] = d->grp_of[n] = TT_INVALID_ID;
+        d->grp_hi[n] = 0;
+    }
+    d->free_grp_count = d->pend_grp_count = d->pend_reg_count = 0;
+    for (int k = 0; k < RT_DYN_REGION_CLASSES; k++) d->free_reg_count[k] = 0;
+    d->free_reg_blocks = 0;
+    rtc_tree fresh;
+    memset(&fresh, 0, sizeof fresh);
+    fresh.c.M = M;
+    fresh.c.S = (M + 3u) & ~3u;
+    fresh.c.words = tt_rtc_words(M);
+    fresh.c.nodes = 1; /* the root's record */
+    d->lay_rec_cap = d->lay_blk_cap = 0;
+    const uint64_t recs = 1 + groups * M;
+    tt_status st = lay_reserve(d, &fresh, recs + recs / 8, blocks + blocks / 8);
+    if (st != TT_OK) {
+        rtc_free(ctx, &fresh);
+        d->slack = 0;
+        return st;
+    }
+    record_clear(&fresh.c, 0);
+    fresh.m = t->m;
+    fresh.trace = t->trace;
+    fresh.trace_stats = t->trace_stats;
+    fresh.packet = t->packet;
+    fresh.packet_stats = t->packet_stats;
+    rtc_free(ctx, t);
+    *t = fresh;
+    d->slack = 1;
+    d->compactions++;
+    return TT_OK;
+}
+
+tt_status rt_dyn_sync(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *scene)
+{
+    rt_builder *b = &d->b;
+    tt_status st = rt_dyn_node_arrays(d);
+    if (st != TT_OK) return st;
+    /* the refit's marks are touches too (moved triangles, grown boxes) */
+    for (uint32_t j = 0; j < d->dirty_count; j++) rt_dyn_touch(d, d->dirty_list[j]);
+    d->last_records = d->last_blocks = 0;
+    const uint32_t root = b->root, height = b->hdr[root].level;
+    if (height == 0) { /* a lone leaf: the packer's record above it */
+        for (uint32_t k = 0; k < d->touch_count; k++) d->touched[d->touch_list[k]] = 0;
+        d->touch_count = 0;
+        d->slack = 0;
+        return rt_dyn_repack(d, ctx, t, scene);
+    }
+    const tt_rtc *c = &t->c;
+    const int fragmented =
+        (uint64_t)d->free_grp_count * c->M * RT_DYN_COMPACT_FREE > c->nodes + 4u * c->M ||
+        d->free_reg_blocks * RT_DYN_COMPACT_FREE > c->blocks + 64u;
+    if (!d->slack || d->touch_oom || root != d->lay_root || height != d->lay_height ||
+        fragmented) {
+        d->touch_oom = 0;
+        st = lay_start_full(d, t);
+        if (st != TT_OK) return st;
+    } else { /* freed groups and regions cleared, then free */
+        for (uint32_t k = 0; k < d->pend_grp_count && st == TT_OK; k++) {
+            for (uint32_t i = 0; i < c->M; i++) record_clear(c, d->pend_grp[k] + i);
+            st = push(ctx, &d->free_grp, &d->free_grp_count, &d->free_grp_cap, d->pend_grp[k]);
+        }
+        for (uint32_t k = 0; k < d->pend_reg_count && st == TT_OK; k++)
+            st = free_region(d, c, d->pend_reg[k]);
+        d->pend_grp_count = d->pend_reg_count = 0;
+        if (st != TT_OK) return st;
+    }
+    /* 1. closure (a touched node's box in its parent changed), a group for
+     *    every touched node above level 1 without one, a region of the
+     *    right size for every touched level-1 node */
+    for (uint32_t k = 0; k < d->touch_count && st == TT_OK; k++) {
+        const uint32_t n = d->touch_list[k];
+        if (n >= d->rec_cap || b->hdr[n].pad) continue; /* freed */
+        if (n != root && b->hdr[n].parent != TT_INVALID_ID) rt_dyn_touch(d, b->hdr[n].parent);
+        if (b->hdr[n].level >= 2 && d->grp_of[n] == TT_INVALID_ID)
+            st = alloc_group(d, t, &d->grp_of[n]);
+        else if (b->hdr[n].level == 1)
+            st = fit_region(d, t, n);
+    }
+    /* 2. the touched nodes' records (children that moved join the list) */
+    for (uint32_t k = 0; k < d->touch_count && st == TT_OK; k++) {
+        const uint32_t n = d->touch_list[k];
+        if (n >= d->rec_cap || b->hdr[n].pad || b->hdr[n].level == 0) continue;
+        write_node(d, &t->c, scene, n);
+    }
+    for (uint32_t k = 0; k < d->touch_count; k++) d->touched[d->touch_list[k]] = 0;
+    d->touch_count = 0;
+    if (st == TT_OK && d->touch_oom)
+        st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
+    if (st != TT_OK) {
+        d->slack = 0; /* the next update starts the layout over */
+        return st;
+    }
+    t->c.height = height;
+    t->c.triangles = b->triangles;
+    d->lay_root = root;
+    d->lay_height = height;
+    d->lay_rec_used = t->c.nodes;
+    d->lay_blk_used = t->c.blocks;
+    d->lay_words = t->c.words;
+    return TT_OK;
+}
+
+/* ------------------------------------------ a deformation in one walk */
+
+/* Node n refit from the scene's vertices and written into the layout in
+ * the same visit: a leaf's triangles get their boxes (tri_box and the
+ * leaf's entries) and their lanes, an interior node its entries from its
+ * children and its record's boxes; *out the union of n's entries. One walk
+ * instead of four passes (bounds, refit, lanes, records), each of which
+ * went over the whole tree or every id once more. */
+static void deform_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
+                        float out[6])
+{
+    const rt_builder *b = &d->b;
+    const uint32_t *ch = rt_node_child(b, n);
+    float *s = rt_node_box(b, n);
+    const int cap = b->cap, cnt = b->hdr[n].count;
+    rt_box_empty(out);
+    if (b->hdr[n].level == 0) {
+        /* locals throughout: the stores through tri_box, the entries and
+         * the lanes would otherwise make the compiler reload everything */
+        float lo[3] = {TT_INF, TT_INF, TT_INF}, hi[3] = {-TT_INF, -TT_INF, -TT_INF};
+        for (int i = 0; i < cnt; i++) {
+            const uint32_t id = ch[i];
+            float v[9], bx[6];
+            memcpy(v, scene->tri + 9 * (size_t)id, sizeof v);
+            for (int k = 0; k < 3; k++) {
+                bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
+                bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
+                lo[k] = rt_min(lo[k], bx[k]);
+                hi[k] = rt_max(hi[k], bx[k + 3]);
+            }
+            memcpy(d->tri_box + 6 * (size_t)id, bx, sizeof bx);
+            for (int k = 0; k < 6; k++) s[k * cap + i] = bx[k];
+            const uint32_t g = d->lane_of[id];
+            tt_tri_block *bk = (tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
+            const uint32_t l = g % TT_TRI_BLOCK_W;
+            if (tt_tri_is_degenerate(v, v + 3, v + 6)) /* as rtc_pack writes it */
+                for (int q = 0; q < 9; q++) v[q] = NAN;
+            for (int q = 0; q < 9; q++) bk->v[q][l] = v[q];
+        }
+        memcpy(out, lo, sizeof lo);
+        memcpy(out + 3, hi, sizeof hi);
+        return;
+    }
+    for (int i = 0; i < cnt; i++) {
+        float cb[6];
+        deform_node(d, c, scene, ch[i], cb);
+        for (int k = 0; k < 3; k++) {
+            s[k * cap + i] = cb[k];
+            s[(k + 3) * cap + i] = cb[k + 3];
+            out[k] = rt_min(out[k], cb[k]);
+            out[k + 3] = rt_max(out[k + 3], cb[k + 3]);
+        }
+    }
+    rtc_set_boxes(c, (float *)tt_rtc_node(c, d->rec_of[n]), s, (uint32_t)cap, (uint32_t)cnt);
+}
+
+int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads)
+{
+    const rt_builder *b = &d->b;
+    const uint32_t root = b->root;
+    if (b->hdr[root].level == 0 || d->must_repack) return 0; /* the general path */
+    const tt_rtc *c = &t->c;
+    const uint32_t *ch = rt_node_child(b, root);
+    const int cnt = b->hdr[root].count;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (int i = 0; i < cnt; i++) {
+        float cb[6];
+        deform_node(d, c, scene, ch[i], cb);
+        rt_soa_put(rt_node_box(b, root), b->cap, i, cb);
+    }
+    rtc_set_boxes(c, (float *)tt_rtc_node(c, d->rec_of[root]), rt_node_box(b, root),
+                  (uint32_t)b->cap, (uint32_t)cnt);
+    return 1;
 }

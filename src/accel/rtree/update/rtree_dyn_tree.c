@@ -38,12 +38,18 @@ tt_status rt_dyn_node_arrays(rt_dyn *d)
     uint8_t *dirty = rec ? tt_realloc_array(ctx, d->dirty, need, 1) : NULL;
     if (dirty) d->dirty = dirty;
     uint32_t *fr = dirty ? tt_realloc_array(ctx, d->free_node, need, sizeof *fr) : NULL;
-    if (!fr) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
-    d->free_node = fr;
-    d->b.free_node = fr;
+    if (fr) {
+        d->free_node = fr;
+        d->b.free_node = fr;
+    }
+    uint32_t *grp = fr ? tt_realloc_array(ctx, d->grp_of, need, sizeof *grp) : NULL;
+    if (grp) d->grp_of = grp;
+    uint8_t *hi = grp ? tt_realloc_array(ctx, d->grp_hi, need, 1) : NULL;
+    if (!hi) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
+    d->grp_hi = hi;
     for (uint32_t i = d->rec_cap; i < need; i++) {
-        rec[i] = TT_INVALID_ID;
-        dirty[i] = 0;
+        rec[i] = grp[i] = TT_INVALID_ID;
+        dirty[i] = hi[i] = 0;
     }
     d->rec_cap = need;
     return TT_OK;
@@ -68,6 +74,7 @@ static tt_status mark(rt_dyn *d, uint32_t n)
 
 static void free_node(rt_dyn *d, uint32_t n)
 {
+    rt_dyn_release(d, n);
     d->b.hdr[n].pad = NODE_FREE;
     d->b.hdr[n].count = 0;
     d->b.hdr[n].parent = TT_INVALID_ID;
@@ -78,6 +85,7 @@ static void free_node(rt_dyn *d, uint32_t n)
 static void remove_entry(rt_builder *b, uint32_t n, int i)
 {
     const int last = --b->hdr[n].count;
+    rt_builder_touch(b, n);
     if (i == last) return;
     float e[6];
     float *s = rt_node_box(b, n);
@@ -162,6 +170,7 @@ tt_status rt_dyn_delete(rt_dyn *d, uint32_t id)
             float nb[6];
             rt_node_bounds(b, n, nb);
             rt_soa_put(rt_node_box(b, p), b->cap, b->hdr[n].slot, nb);
+            rt_builder_touch(b, p);
         }
         n = p;
     }

@@ -14,7 +14,8 @@
  * Order: refits first and the boxes brought up (so every box is exact),
  * then deletions, then insertions. The compact layout: when nothing was
  * deleted or inserted, the moved lanes and the boxes that changed are
- * written in place; otherwise it is repacked from the pointer tree. */
+ * written in place; otherwise the records and blocks of the nodes the
+ * update touched are rewritten in the slack layout (rt_dyn_sync). */
 #include <math.h>
 #include <omp.h>
 #include <string.h>
@@ -77,6 +78,19 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
     const size_t live = tt_scene_live_triangle_count(scene);
     const int deform = moved * 4 >= live && moved > 0;
     size_t removed = 0, inserted = 0, far = 0, refit = 0;
+    /* a pure deformation (only moves): one walk refits and writes it all */
+    const int threads0 = changed < ((size_t)1 << 17) ? 1
+                         : tt_context_threads(ctx) > 0 ? tt_context_threads(ctx)
+                                                       : omp_get_max_threads();
+    if (deform && moved == changed && rt_dyn_deform(d, t, scene, threads0)) {
+        tt_free(ctx, ids);
+        d->last_refit = moved;
+        d->last_removed = d->last_inserted = d->last_moved_far = 0;
+        d->last_tree_s = tt_now() - t0;
+        d->last_layout_s = 0.0;
+        d->updates++;
+        return TT_OK;
+    }
 
     /* 1. refits: new boxes into the leaves, marked for the climb */
     uint8_t *again = tt_calloc(ctx, changed ? changed : 1, 1); /* delete + insert */
@@ -149,7 +163,9 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
         else
             for (uint32_t j = 0; j < d->dirty_count; j++) rt_dyn_write_box(d, t, d->dirty_list[j]);
     } else if (st == TT_OK) {
-        st = rt_dyn_repack(d, ctx, t, scene);
+        /* the touched nodes' records and blocks rewritten in the slack
+         * layout (a compaction now and then: rt_dyn_sync) */
+        st = rt_dyn_sync(d, ctx, t, scene);
         if (st == TT_OK) d->must_repack = 0;
     }
     for (uint32_t j = 0; j < d->dirty_count; j++) d->dirty[d->dirty_list[j]] = 0;
