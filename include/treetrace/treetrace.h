@@ -423,6 +423,11 @@ typedef struct tt_batch_options {
      * TT_PACKETS_OFF always ray by ray; TT_PACKETS_ON packets whenever the
      * structure has them. Results do not depend on it. */
     uint32_t packets;
+    /* When not NULL, the counting variant traces the batch (as with stats)
+     * and adds per-packet counts here (tt_packet_counts, below): packets
+     * traced, nodes they visited, rays active at those visits, rays
+     * finished one by one inside packet calls. Why packets win or lose. */
+    struct tt_packet_counts *packet_stats;
 } tt_batch_options;
 
 enum { TT_PACKETS_AUTO = 0, TT_PACKETS_OFF = 1, TT_PACKETS_ON = 2 };
@@ -607,6 +612,11 @@ void tt_render_options_default(tt_render_options *options);
 
 typedef struct tt_render_result tt_render_result;
 
+/* Per-packet counts (tt_batch_options.packet_stats, tt_render_summary):
+ * packets traced (a tile's rays of one direction octant), nodes they
+ * visited (once a packet), rays active at those visits (active_lanes /
+ * node_visits: the packet's mean width at a node), rays finished one by one
+ * inside packet calls (an octant of too few rays). */
 typedef struct tt_packet_counts {
     uint64_t packets, node_visits, active_lanes, fallback_rays;
 } tt_packet_counts;

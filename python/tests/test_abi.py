@@ -36,6 +36,7 @@ def test_render_and_batch_options_layout():
     b = filled_by(_lib.lib.tt_batch_options_default, _lib.BatchOptions)
     assert b.start_hint == tt.INVALID_ID and not b.stats and b.chunk == 0
     assert b.image_width == 0 and b.packets == _lib.PACKETS["auto"] == 0
+    assert not b.packet_stats
     c = filled_by(_lib.lib.tt_context_options_default, _lib.ContextOptions)
     assert c.threads == 0 and not c.on_error
 

@@ -69,10 +69,15 @@ class TraceArgs(ctypes.Structure):
                 ("stats", ctypes.POINTER(RayStats))]
 
 
+class PacketCounts(ctypes.Structure):
+    _fields_ = [(name, ctypes.c_uint64)
+                for name in ("packets", "node_visits", "active_lanes", "fallback_rays")]
+
+
 class BatchOptions(ctypes.Structure):
     _fields_ = [("start_hint", ctypes.c_uint32), ("stats", ctypes.POINTER(RayStats)),
                 ("chunk", ctypes.c_uint32), ("image_width", ctypes.c_uint32),
-                ("packets", ctypes.c_uint32)]
+                ("packets", ctypes.c_uint32), ("packet_stats", ctypes.POINTER(PacketCounts))]
 
 # tt_batch_options.packets / tt_render_options.packets
 PACKETS = {"auto": 0, "off": 1, "on": 2}
@@ -104,11 +109,6 @@ class RenderOptions(ctypes.Structure):
                 ("keep_hits", ctypes.c_int), ("keep_image", ctypes.c_int),
                 ("keep_pixel_stats", ctypes.c_int), ("device", ctypes.c_int),
                 ("packets", ctypes.c_uint32)]
-
-
-class PacketCounts(ctypes.Structure):
-    _fields_ = [(name, ctypes.c_uint64)
-                for name in ("packets", "node_visits", "active_lanes", "fallback_rays")]
 
 
 class RenderSummary(ctypes.Structure):

@@ -193,6 +193,8 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
     const tt_accel_vtable *vt = accel->vt;
     const int threads = threads_of(accel);
     const int use_packets = packets_allowed(accel, vt, o, hits != NULL);
+    /* the counting variants trace when either count is asked for */
+    const int counting = o->stats != NULL || o->packet_stats != NULL;
     tt_status entered = tt_accel_trace_enter(accel, call);
     if (entered != TT_OK) return entered;
     plan p;
@@ -220,18 +222,23 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                 tt_end_box eb;
                 tt_dir_box_init(&db);
                 tt_end_box_init(&eb);
-                size_t seen = 0;
+                size_t seen = 0, next = 0;
+                int hopeless = 0; /* neither test can pass: stop sampling */
                 FOR_EACH_RAY(&p, c, i) {
+                    if (hopeless) break; /* (each row's loop; a tile has 16) */
                     /* about 32 rays of the item suffice to judge it, and
-                     * keep the test's cost to incoherent batches small */
-                    const size_t step = (len_ * rows_ + 31u) / 32u;
-                    if (seen++ % step) continue;
+                     * keep the test's cost to incoherent batches small
+                     * (a running target, not seen % step: an integer
+                     * division a ray is tens of cycles) */
+                    if (seen++ != next) continue;
+                    next += (len_ * rows_ + 31u) / 32u;
                     float org[3], dir[3], tmin, tmax;
                     load_ray(rays, i, org, dir, &tmin, &tmax);
                     tt_dir_box_add(&db, dir);
                     tt_end_box_add(&eb, org, dir, tmax);
+                    hopeless = tt_packet_boxes_hopeless(&db, &eb);
                 }
-                packet = seen >= TT_PACKET_MIN && tt_packet_boxes_coherent(&db, &eb);
+                packet = !hopeless && seen >= TT_PACKET_MIN && tt_packet_boxes_coherent(&db, &eb);
             }
             if (packet) {
                 uint32_t np = 0;
@@ -256,17 +263,17 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                     }
                 }
                 if (np >= TT_PACKET_MIN || o->packets == TT_PACKETS_ON) {
-                    if (hits && o->stats) vt->intersect_packet_stats(accel, pw, np, ph, &plocal);
+                    if (hits && counting) vt->intersect_packet_stats(accel, pw, np, ph, &plocal);
                     else if (hits) vt->intersect_packet(accel, pw, np, ph);
-                    else if (o->stats) vt->occluded_packet_stats(accel, pw, np, pocc, &plocal);
+                    else if (counting) vt->occluded_packet_stats(accel, pw, np, pocc, &plocal);
                     else vt->occluded_packet(accel, pw, np, pocc);
                 } else {
                     for (uint32_t j = 0; j < np; j++) {
                         tt_trace_args args = {o->start_hint, TT_INVALID_ID,
-                                              o->stats ? &local : NULL};
-                        if (hits && o->stats) vt->intersect_stats(accel, &pw[j], &ph[j], &args, &local);
+                                              counting ? &local : NULL};
+                        if (hits && counting) vt->intersect_stats(accel, &pw[j], &ph[j], &args, &local);
                         else if (hits) vt->intersect(accel, &pw[j], &ph[j], &args);
-                        else if (o->stats)
+                        else if (counting)
                             pocc[j] = (uint8_t)(vt->occluded_stats(accel, &pw[j], &args, &local) != 0);
                         else pocc[j] = (uint8_t)(vt->occluded(accel, &pw[j], &args) != 0);
                     }
@@ -285,11 +292,11 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                 tt_status rs = check_ray(org, dir, tmin, tmax);
                 if (rs == TT_OK) {
                     tt_wray w;
-                    tt_trace_args args = {o->start_hint, TT_INVALID_ID, o->stats ? &local : NULL};
+                    tt_trace_args args = {o->start_hint, TT_INVALID_ID, counting ? &local : NULL};
                     tt_wray_init(&w, org, dir, tmin, tmax);
-                    if (hits && o->stats) vt->intersect_stats(accel, &w, &h, &args, &local);
+                    if (hits && counting) vt->intersect_stats(accel, &w, &h, &args, &local);
                     else if (hits) vt->intersect(accel, &w, &h, &args);
-                    else if (o->stats) occ = vt->occluded_stats(accel, &w, &args, &local);
+                    else if (counting) occ = vt->occluded_stats(accel, &w, &args, &local);
                     else occ = vt->occluded(accel, &w, &args);
                 } else {
                     if (hits) tt_hit_clear(&h);
@@ -301,10 +308,18 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                 else occluded[(ptrdiff_t)i * occluded_stride] = (uint8_t)(occ != 0);
             }
         }
-        if (o->stats) {
+        if (counting) {
             tt_ray_stats_add(&local, &plocal.rays);
 #pragma omp critical(tt_batch_stats)
-            tt_ray_stats_add(o->stats, &local);
+            {
+                if (o->stats) tt_ray_stats_add(o->stats, &local);
+                if (o->packet_stats) {
+                    o->packet_stats->packets += plocal.packets;
+                    o->packet_stats->node_visits += plocal.node_visits;
+                    o->packet_stats->active_lanes += plocal.active_lanes;
+                    o->packet_stats->fallback_rays += plocal.fallback_rays;
+                }
+            }
         }
     }
     tt_accel_trace_leave(accel);

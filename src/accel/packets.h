@@ -96,6 +96,20 @@ static inline int tt_packet_boxes_coherent(const tt_dir_box *d, const tt_end_box
     return tt_dir_box_coherent(d) || tt_end_box_converge(e);
 }
 
+/* Neither test can pass any more, whatever rays are added: both boxes only
+ * grow (and the shortest length only shrinks), so a sampler may stop at the
+ * first rays that spread (an incoherent batch then pays two or three
+ * samples an item, not all of them). */
+static inline int tt_packet_boxes_hopeless(const tt_dir_box *d, const tt_end_box *e)
+{
+    int dir_ok = 1, end_ok = !e->open;
+    for (int k = 0; k < 3; k++) {
+        dir_ok &= d->hi[k] - d->lo[k] <= TT_PACKET_SPREAD;
+        end_ok &= e->hi[k] - e->lo[k] <= 0.01f * e->shortest;
+    }
+    return !dir_ok && !end_ok;
+}
+
 static inline int tt_packet_coherent(const tt_wray *w, uint32_t n)
 {
     if (n < TT_PACKET_MIN) return 0;

@@ -305,6 +305,25 @@ static void check_camera_batch(tt_context *ctx, const tt_scene *scene, const tt_
               what, (unsigned long long)batch_stats.nodes,
               (unsigned long long)batch_stats.triangles, (unsigned long long)single_stats.nodes,
               (unsigned long long)single_stats.triangles);
+    /* Per-packet counts (packet_stats, alone: stats NULL): the same hits;
+     * with packets on, a structure with a packet walk reports packets and
+     * their node visits, at least one active ray a visit; ray by ray, none. */
+    tt_packet_counts pc;
+    memset(&pc, 0, sizeof pc);
+    bo.stats = NULL;
+    bo.packet_stats = &pc;
+    bo.packets = TT_PACKETS_ON;
+    CHECK_OK(ctx, tt_intersect(accel, rays, n, counted, NULL, &bo));
+    CHECK(memcmp(counted, hits, n * sizeof *hits) == 0);
+    CHECK_MSG(pc.active_lanes >= pc.node_visits && (pc.packets > 0) == (pc.node_visits > 0),
+              "%s: packets %llu, node visits %llu, active lanes %llu", what,
+              (unsigned long long)pc.packets, (unsigned long long)pc.node_visits,
+              (unsigned long long)pc.active_lanes);
+    memset(&pc, 0, sizeof pc);
+    bo.packets = TT_PACKETS_OFF;
+    CHECK_OK(ctx, tt_intersect(accel, rays, n, counted, NULL, &bo));
+    CHECK(memcmp(counted, hits, n * sizeof *hits) == 0);
+    CHECK(pc.packets == 0 && pc.node_visits == 0 && pc.fallback_rays == 0);
     free(counted);
     free(rays);
     free(hits);

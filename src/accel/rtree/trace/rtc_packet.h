@@ -34,7 +34,13 @@
  *    ray by ray with the single-ray block kernel. So every ray's candidate
  *    triangles give the single-ray kernel's t, u, v bit for bit, and its
  *    closest hit is the single-ray answer (ties at equal t go to the
- *    smaller id in both: rtc_pk_block).
+ *    smaller id in both: rtc_pk_block). A group with few active lanes
+ *    (PK_LEAF_SINGLE) takes the single-ray block kernel too: it tests the
+ *    block's 8 triangles at once, where the packet's test pays a pass per
+ *    triangle whatever the lanes.
+ *  - Occlusion packets are runs of at most PK_OCC_CHUNK consecutive rays of
+ *    an octant: shadow rays come in image order, and a shorter run's
+ *    origins bound more tightly, so the interval test culls more.
  *
  * The including unit defines PK_L, the vector macros PK_* (see
  * rtc_packet_avx512.c), RTC_ISA, RTC_BLOCKS_INTERSECT / _OCCLUDED (the
@@ -52,6 +58,23 @@
 #ifndef PK_MIN_RAYS
 #define PK_MIN_RAYS 4u
 #endif
+/* A leaf block meets a group's rays one by one (the single-ray block
+ * kernel: its 8 triangles at once) when at most this many of the group's
+ * lanes are active: the packet's block test costs a pass per triangle
+ * whatever the number of lanes. 6 of 16 lanes measured best (4 and 8 were
+ * a few % slower; 2026-12-02, sibenik and bunny, rpacket note). */
+#ifndef PK_LEAF_SINGLE
+#define PK_LEAF_SINGLE (PK_L * 3u / 8u)
+#endif
+/* Occlusion packets take at most this many consecutive rays of an octant:
+ * shadow rays in image order (a run of hit points along rows) diverge in
+ * their origins, and the interval test of 256 of them culls little;
+ * runs of 32 were 4-29% faster than 256 (64: 0-8%, 16: worse on sibenik).
+ * Camera tiles stay whole (their 256 rays share the eye). */
+#ifndef PK_OCC_CHUNK
+#define PK_OCC_CHUNK 32u
+#endif
+#define PK_CHUNK (any ? PK_OCC_CHUNK : PK_N)
 
 /* One packet of rays of one octant, structure of arrays, PK_G groups of
  * PK_L lanes; lanes past n repeat ray 0 and are never active. */
@@ -102,7 +125,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_block))(pk_rays *P, const int any, ui
                                                    uint32_t m, const tt_tri_block *b)
 {
     const uint32_t base = g * PK_L;
-    if (P->perm[g] < 0) {
+    if (P->perm[g] < 0 || pk_popcount(m) <= PK_LEAF_SINGLE) {
         /* the rays of this group shear differently: one by one with the
          * single-ray kernel */
         while (m) {
@@ -411,10 +434,11 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_wray *ray
         const int neg = rays[idx[0]].rcp[k] < 0.0f;
         P->nrow[k] = neg ? k + 3 : k;
         P->frow[k] = neg ? k : k + 3;
-        P->omin[k] = P->rmin[k] = TT_INF;
-        P->omax[k] = P->rmax[k] = -TT_INF;
     }
-    P->tmin_min = TT_INF;
+    /* the bounds in locals, min/max by selects: compares with branches
+     * mispredicted here (a tile's rays rise and fall along a row) */
+    float omin[3], omax[3], rmin[3], rmax[3], tmin_min = TT_INF;
+    for (uint32_t k = 0; k < 3; k++) omin[k] = rmin[k] = TT_INF, omax[k] = rmax[k] = -TT_INF;
     int finite = 1;
     for (uint32_t i = 0; i < P->groups * PK_L; i++) {
         const tt_wray *r = &rays[idx[i < n ? i : 0]];
@@ -434,15 +458,23 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_wray *ray
         P->sz[i] = r->sz;
         if (i < n) {
             for (int k = 0; k < 3; k++) {
-                if (r->org[k] < P->omin[k]) P->omin[k] = r->org[k];
-                if (r->org[k] > P->omax[k]) P->omax[k] = r->org[k];
-                if (r->rcp[k] < P->rmin[k]) P->rmin[k] = r->rcp[k];
-                if (r->rcp[k] > P->rmax[k]) P->rmax[k] = r->rcp[k];
-                finite &= isfinite(r->rcp[k]);
+                const float o = r->org[k], q = r->rcp[k];
+                omin[k] = o < omin[k] ? o : omin[k];
+                omax[k] = o > omax[k] ? o : omax[k];
+                rmin[k] = q < rmin[k] ? q : rmin[k];
+                rmax[k] = q > rmax[k] ? q : rmax[k];
+                finite &= isfinite(q);
             }
-            if (r->tmin < P->tmin_min) P->tmin_min = r->tmin;
+            tmin_min = r->tmin < tmin_min ? r->tmin : tmin_min;
         }
     }
+    for (uint32_t k = 0; k < 3; k++) {
+        P->omin[k] = omin[k];
+        P->omax[k] = omax[k];
+        P->rmin[k] = rmin[k];
+        P->rmax[k] = rmax[k];
+    }
+    P->tmin_min = tmin_min;
     P->ia = finite;
     for (uint32_t g = 0; g < P->groups; g++) {
         const uint32_t lanes = n - g * PK_L >= PK_L ? PK_L : n - g * PK_L;
@@ -455,6 +487,42 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_wray *ray
             if (r->kx != r0->kx || r->ky != r0->ky || r->kz != r0->kz) perm = -1;
         }
         P->perm[g] = perm;
+    }
+}
+
+/* One packet: the rays ix[0..c) of one octant loaded, walked, answered. */
+TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_trace))(const tt_rtc *t, const tt_wray *rays,
+                                                   const uint32_t *ix, uint32_t c, int any,
+                                                   tt_hit *hits, uint8_t *occ, pk_rays *P,
+                                                   tt_packet_stats *stats)
+{
+    TT_COUNT(stats, packets, 1);
+    TT_VARIANT(RTC_FN(rtc_pk_load))(P, rays, ix, c);
+    switch (t->S) {
+    case 16:
+        if (any) TT_VARIANT(RTC_FN(rtc_pk_walk))(t, 16, 1, P, stats);
+        else TT_VARIANT(RTC_FN(rtc_pk_walk))(t, 16, 0, P, stats);
+        break;
+    case 8:
+        if (any) TT_VARIANT(RTC_FN(rtc_pk_walk))(t, 8, 1, P, stats);
+        else TT_VARIANT(RTC_FN(rtc_pk_walk))(t, 8, 0, P, stats);
+        break;
+    default:
+        if (any) TT_VARIANT(RTC_FN(rtc_pk_walk))(t, t->S, 1, P, stats);
+        else TT_VARIANT(RTC_FN(rtc_pk_walk))(t, t->S, 0, P, stats);
+        break;
+    }
+    for (uint32_t j = 0; j < c; j++) {
+        const uint32_t i = ix[j];
+        if (any) {
+            occ[i] = (uint8_t)(P->done[j / PK_L] >> (j % PK_L) & 1u);
+        } else {
+            tt_hit *h = &hits[i];
+            h->prim = P->prim[j];
+            h->t = P->prim[j] == TT_INVALID_ID ? TT_INF : P->t[j];
+            h->u = P->u[j];
+            h->v = P->v[j];
+        }
     }
 }
 
@@ -493,33 +561,12 @@ void TT_VARIANT(RTC_FN(tt_rtc_packet))(const tt_rtc *t, const tt_wray *rays, uin
             }
             continue;
         }
-        TT_COUNT(stats, packets, 1);
-        TT_VARIANT(RTC_FN(rtc_pk_load))(&P, rays, idx[o], c);
-        switch (t->S) {
-        case 16:
-            if (any) TT_VARIANT(RTC_FN(rtc_pk_walk))(t, 16, 1, &P, stats);
-            else TT_VARIANT(RTC_FN(rtc_pk_walk))(t, 16, 0, &P, stats);
-            break;
-        case 8:
-            if (any) TT_VARIANT(RTC_FN(rtc_pk_walk))(t, 8, 1, &P, stats);
-            else TT_VARIANT(RTC_FN(rtc_pk_walk))(t, 8, 0, &P, stats);
-            break;
-        default:
-            if (any) TT_VARIANT(RTC_FN(rtc_pk_walk))(t, t->S, 1, &P, stats);
-            else TT_VARIANT(RTC_FN(rtc_pk_walk))(t, t->S, 0, &P, stats);
-            break;
-        }
-        for (uint32_t j = 0; j < c; j++) {
-            const uint32_t i = idx[o][j];
-            if (any) {
-                occ[i] = (uint8_t)(P.done[j / PK_L] >> (j % PK_L) & 1u);
-            } else {
-                tt_hit *h = &hits[i];
-                h->prim = P.prim[j];
-                h->t = P.prim[j] == TT_INVALID_ID ? TT_INF : P.t[j];
-                h->u = P.u[j];
-                h->v = P.v[j];
-            }
+        /* an octant of more than PK_CHUNK rays goes in equal runs */
+        const uint32_t runs = (cnt[o] + PK_CHUNK - 1) / PK_CHUNK;
+        const uint32_t per = (cnt[o] + runs - 1) / runs;
+        for (uint32_t c0 = 0; c0 < cnt[o]; c0 += per) {
+            const uint32_t k = cnt[o] - c0 < per ? cnt[o] - c0 : per;
+            TT_VARIANT(RTC_FN(rtc_pk_trace))(t, rays, idx[o] + c0, k, any, hits, occ, &P, stats);
         }
     }
 }
