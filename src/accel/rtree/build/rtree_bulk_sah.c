@@ -40,12 +40,14 @@
 #define SWEEP_MAX 64      /* ranges up to this size are swept exactly */
 #define TASK_MIN 4096     /* subtrees of at least this many triangles are tasks */
 #define PART_TASK_MIN 8192 /* so are both sides of a cut of at least this many */
-/* Scenes of at least this many triangles are built on the context's threads.
- * Measured on the shared 2-core machine under load (notes/build.md): with
- * the region from 8192 on, bunny and Sibenik built 1.5-2.3x slower on two
- * threads than on one (the other thread, descheduled, holds a task the
- * first then waits for), so smaller scenes stay on one thread. */
-#define SAH_PARALLEL_MIN (RT_BULK_PARALLEL_MIN / 2)
+/* Scenes of at least this many triangles are built on the context's threads
+ * (the tree does not depend on their number). On the quiet 2-core machine,
+ * two threads from 2^14 on took bunny's and Sibenik's builds from 1.53-1.82x
+ * to 1.2-1.5x Embree's medium build (raybench, 8 runs each); under a load of
+ * 10-20 they were 1.5-2.3x slower than one thread (a descheduled thread
+ * holds a task the other waits for: notes/build.md), a cost only a
+ * saturated machine pays. */
+#define SAH_PARALLEL_MIN (1u << 14)
 
 typedef struct sah {
     const float *tri_box;
