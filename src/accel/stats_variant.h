@@ -18,7 +18,9 @@
  *   rtree/trace/rtree_trace*.h         tt_rt_trace (and the tt_rt_stackless, tt_rt_ordered,
  *                                   tt_rt_stack it chooses among; tt_rt_leaf)
  *   rtree/trace/rtc_trace_stack.h      tt_rtc_stack_<isa> (RTC_FN adds the ISA)
+ *   rtree/trace/rtc_trace_leaf.h       rtc_leaf_<isa> (one leaf; both compact kernels)
  *   rtree/trace/rtc_trace_stackless.h  tt_rtc_stackless
+ *   wbvh/wbvh_trace.h                  tt_wbvh_trace_<isa>
  *   kdtree/trace/kd_trace.h            tt_kd_intersect, tt_kd_occluded (over tt_kd_trace,
  *                                   tt_kd_htr, tt_kd_btr, tt_kd_stackless and their steps)
  *   kdtree/trace/kd_packet.h           tt_kd_packet_<isa> (KD_FN adds the ISA)

@@ -15,6 +15,7 @@
  * kernel. Closest hits are the block kernels', so bit-identical to
  * bruteforce (geometry/tri_block.h; equal t: the smaller id). */
 #include "accel/wbvh/wbvh.h"
+#include "accel/rtree/trace/rtc_trace_leaf.h"
 
 TT_RT_INLINE int TT_VARIANT(RTC_FN(wbvh_trace_m))(const tt_rtc *TT_RESTRICT t, const uint32_t S,
                                                   const int any, const tt_wray *r, tt_hit *hit,
@@ -73,22 +74,8 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(wbvh_trace_m))(const tt_rtc *TT_RESTRICT t, c
                     near_t[nn++] = ot[j];
                     continue;
                 }
-                uint32_t nb;
-                const tt_tri_block *b = tt_rtc_leaf_blocks(t, ref, &nb);
-                const uint32_t off = tt_rtc_leaf_block(ref) - base;
-                TT_COUNT(stats, nodes, 1);
-                TT_COUNT(stats, leaves, 1);
-                for (uint32_t q = 0; q < nb; q++) {
-                    const uint64_t bit = (uint64_t)1 << (off + q);
-                    if (done & bit) continue;
-                    done |= bit;
-                    TT_COUNT(stats, triangles, TT_TRI_BLOCK_W);
-                    if (any) {
-                        if (RTC_BLOCKS_OCCLUDED(r, b + q, 1, h.t)) return 1;
-                    } else {
-                        RTC_BLOCKS_INTERSECT(r, b + q, 1, &h);
-                    }
-                }
+                if (TT_VARIANT(RTC_FN(rtc_leaf))(t, ref, base, &done, any, r, &h, stats))
+                    return 1;
             }
             /* the nodes still in front of the closest hit: farther ones
              * wait, the nearest is entered */

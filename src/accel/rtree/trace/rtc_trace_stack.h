@@ -20,6 +20,7 @@
  * rays on the bunny and Sibenik (a near occluder is found later), as the
  * complete layout's ordered traversal also measured. */
 #include "accel/rtree/layout/rtc_layout.h"
+#include "accel/rtree/trace/rtc_trace_leaf.h"
 
 TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, const uint32_t S,
                                                  const int any, const tt_wray *r, tt_hit *hit,
@@ -67,33 +68,14 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
                 ord[j] = i;
             }
             if (level == 1) {
-                /* Leaves share blocks (rtc_layout.h): a block already
-                 * tested for this node is not tested again, which is
-                 * exact: that test already saw every triangle of it below
-                 * a larger (or the same) closest hit. This node's blocks
-                 * lie within 2 M of its first leaf's, which has the
-                 * lowest index. */
+                /* the record's lowest leaf block is its first leaf's
+                 * (rtc_trace_leaf.h: the tested-block set) */
                 const uint32_t base = tt_rtc_leaf_block(child[0]);
                 uint64_t done = 0;
-                for (uint32_t j = 0; j < k && ot[j] < h.t; j++) {
-                    const uint32_t ref = child[ord[j]];
-                    uint32_t nb;
-                    const tt_tri_block *b = tt_rtc_leaf_blocks(t, ref, &nb);
-                    const uint32_t off = tt_rtc_leaf_block(ref) - base;
-                    TT_COUNT(stats, nodes, 1);
-                    TT_COUNT(stats, leaves, 1);
-                    for (uint32_t q = 0; q < nb; q++) {
-                        const uint64_t bit = (uint64_t)1 << (off + q);
-                        if (done & bit) continue;
-                        done |= bit;
-                        TT_COUNT(stats, triangles, TT_TRI_BLOCK_W);
-                        if (any) {
-                            if (RTC_BLOCKS_OCCLUDED(r, b + q, 1, h.t)) return 1;
-                        } else {
-                            RTC_BLOCKS_INTERSECT(r, b + q, 1, &h);
-                        }
-                    }
-                }
+                for (uint32_t j = 0; j < k && ot[j] < h.t; j++)
+                    if (TT_VARIANT(RTC_FN(rtc_leaf))(t, child[ord[j]], base, &done, any, r, &h,
+                                                     stats))
+                        return 1;
             } else {
                 for (uint32_t j = k - 1; j > 0; j--) {
                     stack_node[sp] = child[ord[j]];
