@@ -412,7 +412,7 @@ void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_wray *rays, u
     for (uint32_t i = 0; i < n; i++) {
         const tt_wray *r = &rays[i];
         if (r->dir[0] == 0.0f || r->dir[1] == 0.0f || r->dir[2] == 0.0f) {
-            TT_VARIANT(KD_FN(kp_single))(T, r, any, hits + (any ? 0 : i), occ + (any ? i : 0),
+            TT_VARIANT(KD_FN(kp_single))(T, r, any, any ? NULL : hits + i, any ? occ + i : NULL,
                                          stats);
             continue;
         }
@@ -429,8 +429,8 @@ void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_wray *rays, u
         if (c < KP_MIN_RAYS) {
             for (uint32_t j = 0; j < c; j++) {
                 const uint32_t i = idx[g][j];
-                TT_VARIANT(KD_FN(kp_single))(T, &rays[i], any, hits + (any ? 0 : i),
-                                             occ + (any ? i : 0), stats);
+                TT_VARIANT(KD_FN(kp_single))(T, &rays[i], any, any ? NULL : hits + i,
+                                             any ? occ + i : NULL, stats);
             }
             continue;
         }

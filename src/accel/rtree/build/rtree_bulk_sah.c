@@ -783,7 +783,8 @@ tt_status rt_bulk_sah(rt_builder *b, tt_context *ctx, const tt_rtree_options *op
     sah s;
     tt_status st = sah_run(&s, ctx, opt, tri_box, T);
     const int L = s.root_level, threads = rt_bulk_threads(ctx);
-    uint32_t *start = st == TT_OK ? tt_alloc_array(ctx, (size_t)T + 1, sizeof *start) : NULL;
+    /* T + 2: an empty scene's single empty leaf writes start[0] and start[1] */
+    uint32_t *start = st == TT_OK ? tt_alloc_array(ctx, (size_t)T + 2, sizeof *start) : NULL;
     if (st == TT_OK && !start)
         st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree: out of memory (SAH build, %u triangles)", T);
     if (st == TT_OK) {
