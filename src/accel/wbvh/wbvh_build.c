@@ -133,6 +133,22 @@ static void split_at(builder *s, uint32_t n, uint32_t begin, uint32_t mid, uint3
 #pragma omp taskwait
 }
 
+/* Where SAH cannot split (the depth cap, or every centroid in one bin):
+ * one leaf when the range fits in one, else the range halved as it lies. */
+static void leaf_or_halves(builder *s, uint32_t n, uint32_t begin, uint32_t end,
+                           const float box[6], uint32_t depth)
+{
+    if (end - begin <= s->max_leaf) {
+        make_leaf(s, n, begin, end, box);
+        return;
+    }
+    const uint32_t mid = begin + (end - begin) / 2;
+    float lb[6], lc[6], rb[6], rc[6];
+    range_bounds(s, begin, mid, lb, lc);
+    range_bounds(s, mid, end, rb, rc);
+    split_at(s, n, begin, mid, end, box, lb, lc, rb, rc, depth);
+}
+
 static void build_node(builder *s, uint32_t n, uint32_t begin, uint32_t end, const float box[6],
                        const float cen[6], uint32_t depth)
 {
@@ -142,15 +158,7 @@ static void build_node(builder *s, uint32_t n, uint32_t begin, uint32_t end, con
         return;
     }
     if (depth >= WBVH_DEPTH_CAP) {
-        if (count <= s->max_leaf) {
-            make_leaf(s, n, begin, end, box);
-            return;
-        }
-        const uint32_t mid = begin + count / 2;
-        float lb[6], lc[6], rb[6], rc[6];
-        range_bounds(s, begin, mid, lb, lc);
-        range_bounds(s, mid, end, rb, rc);
-        split_at(s, n, begin, mid, end, box, lb, lc, rb, rc, depth);
+        leaf_or_halves(s, n, begin, end, box, depth);
         return;
     }
     /* bin along every axis with extent */
@@ -204,17 +212,8 @@ static void build_node(builder *s, uint32_t n, uint32_t begin, uint32_t end, con
         }
     }
     if (best_axis < 0) {
-        if (count <= s->max_leaf) {
-            make_leaf(s, n, begin, end, box);
-            return;
-        }
-        /* no binned split (every centroid in one bin on every axis):
-         * halve the range as it lies */
-        const uint32_t mid = begin + count / 2;
-        float lb[6], lc[6], rb[6], rc[6];
-        range_bounds(s, begin, mid, lb, lc);
-        range_bounds(s, mid, end, rb, rc);
-        split_at(s, n, begin, mid, end, box, lb, lc, rb, rc, depth);
+        /* no binned split (every centroid in one bin on every axis) */
+        leaf_or_halves(s, n, begin, end, box, depth);
         return;
     }
     /* partition in place: bins [0, best_j) of best_axis first */
