@@ -161,7 +161,6 @@ static void tighten(rt_builder *b, uint32_t n)
  *                                          d overlap, d volume, volume, d surface, surface
  *   rstar-surface (above the leaves):      d overlap, d surface, surface
  * Surface areas are computed without the factor 2, which changes no order. */
-#define MAX_KEYS 5
 
 static int keys_less(const float *a, const float *b, int n)
 {
@@ -240,62 +239,7 @@ static int choose_entry(const rt_builder *b, uint32_t n, const float e[6])
         return best_i;
     }
 
-    /* An entry that already contains e has every enlargement 0, the least
-     * possible value of all the leading keys: the smallest such entry wins
-     * without the quadratic overlap sums. */
-    int inside = -1;
-    for (int i = 0; i < cnt; i++) {
-        if (lx[i] <= e[0] && ly[i] <= e[1] && lz[i] <= e[2] && hx[i] >= e[3] && hy[i] >= e[4] &&
-            hz[i] >= e[5]) {
-            const float ex = hx[i] - lx[i], ey = hy[i] - ly[i], ez = hz[i] - lz[i];
-            const float ix = hx[inside < 0 ? i : inside] - lx[inside < 0 ? i : inside];
-            const float iy = hy[inside < 0 ? i : inside] - ly[inside < 0 ? i : inside];
-            const float iz = hz[inside < 0 ? i : inside] - lz[inside < 0 ? i : inside];
-            float key[2] = {ex * ey * ez, ex * ey + ey * ez + ez * ex};
-            float best[2] = {ix * iy * iz, ix * iy + iy * iz + iz * ix};
-            if (st == TT_RTREE_RSTAR_SURFACE) key[0] = best[0] = 0.0f;
-            if (inside < 0 || keys_less(key, best, 2)) inside = i;
-        }
-    }
-    if (inside >= 0) return inside;
-
-    float ent[TT_RT_CAP][6], uni[TT_RT_CAP][6], own[TT_RT_CAP] = {0};
-    for (int i = 0; i < cnt; i++) {
-        rt_soa_get(s, cap, i, ent[i]);
-        for (int k = 0; k < 3; k++) {
-            uni[i][k] = rt_min(ent[i][k], e[k]);
-            uni[i][k + 3] = rt_max(ent[i][k + 3], e[k + 3]);
-        }
-    }
-    /* own[i]: the overlap of entry i with its siblings now (pairs once) */
-    for (int i = 0; i < cnt; i++)
-        for (int j = i + 1; j < cnt; j++) {
-            const float o = rt_box_overlap(ent[i], ent[j]);
-            own[i] += o;
-            own[j] += o;
-        }
-    float best[MAX_KEYS], key[MAX_KEYS];
-    int best_i = 0;
-    for (int i = 0; i < cnt; i++) {
-        int nk = 0;
-        float d = 0.0f;
-        for (int j = 0; j < cnt; j++)
-            if (j != i) d += rt_box_overlap(uni[i], ent[j]);
-        key[nk++] = d - own[i];
-        const float area = rt_box_area(ent[i]), darea = rt_box_area(uni[i]) - area;
-        if (st != TT_RTREE_RSTAR_SURFACE) {
-            const float vol = rt_box_volume(ent[i]);
-            key[nk++] = rt_box_volume(uni[i]) - vol;
-            key[nk++] = vol;
-        }
-        key[nk++] = darea;
-        key[nk++] = area;
-        if (i == 0 || keys_less(key, best, nk)) {
-            memcpy(best, key, sizeof best);
-            best_i = i;
-        }
-    }
-    return best_i;
+    return rt_choose_overlap(b, n, e);
 }
 
 /* ------------------------------------------------------------- insertion */

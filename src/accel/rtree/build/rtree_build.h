@@ -110,6 +110,10 @@ tt_status rt_builder_check(const rt_builder *b);
  * (rtree_choose_rrstar.c; strategy TT_RTREE_RRSTAR). */
 int rt_choose_rrstar(const rt_builder *b, uint32_t n, const float e[6]);
 
+/* choose_entry's overlap criterion (rtree_choose_overlap.c): min-overlap,
+ * and the R* variants in the nodes just above the leaves. */
+int rt_choose_overlap(const rt_builder *b, uint32_t n, const float e[6]);
+
 /* Splitting an overflowing node (rtree_split.c): fills group[i] with 0 or
  * 1 for each of the node's count entries, both groups holding >= m. */
 void rt_split_rstar(const rt_builder *b, uint32_t n, uint8_t *group);
