@@ -16,6 +16,7 @@
 #include <emmintrin.h>
 #endif
 
+#include "accel/rtree/build/rtree_choose_overlap.h"
 #include "accel/rtree/rtree_box.h"
 
 /* ------------------------------------------------------------------ pool */
@@ -78,6 +79,7 @@ tt_status rt_builder_init(rt_builder *b, tt_context *ctx, const tt_rtree_options
     b->reinsert_count = p < 1 ? 1 : p;
     b->reinsert_far = opt->reinsert_far;
     b->tri_box = tri_box;
+    b->overlap_keys = rt_overlap_keys_best();
     /* A first guess of the pool (nodes about 70% full) saves the early
      * doublings; it grows as needed. */
     uint64_t guess = (uint64_t)triangle_count_hint * 2 / (uint64_t)opt->M + 64;

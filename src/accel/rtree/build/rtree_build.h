@@ -26,6 +26,8 @@ typedef struct rt_node_hdr {
     uint8_t pad;
 } rt_node_hdr;
 
+struct rt_overlap_keys; /* rtree_choose_overlap.h */
+
 typedef struct rt_builder {
     tt_context *ctx;
     /* options */
@@ -64,6 +66,10 @@ typedef struct rt_builder {
      * (rtree_dyn_compact.c); NULL for a one-shot build */
     void (*touch)(void *user, uint32_t n);
     void *touch_user;
+    /* the overlap criterion's kernel for this CPU (rtree_choose_overlap.h);
+     * NULL: the baseline one */
+    void (*overlap_keys)(const float *s, int cap, int cnt, const float e[6],
+                         struct rt_overlap_keys *k);
 } rt_builder;
 
 /* Tells the dynamic update that node n changed (rt_builder.touch). */

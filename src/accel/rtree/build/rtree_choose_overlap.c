@@ -19,7 +19,7 @@
 #include <emmintrin.h>
 #endif
 
-#include "accel/rtree/build/rtree_build.h"
+#include "accel/rtree/build/rtree_choose_overlap.h"
 #include "accel/rtree/rtree_box.h"
 
 #define MAX_KEYS 5
@@ -33,38 +33,13 @@ static int keys_less(const float *a, const float *b, int n)
     return 0;
 }
 
-int rt_choose_overlap(const rt_builder *b, uint32_t n, const float e[6])
+void rt_overlap_keys_sse2(const float *s, int cap, int cnt, const float e[6], rt_overlap_keys *k)
 {
-    const float *s = rt_node_box(b, n);
-    const int cap = b->cap, cnt = b->hdr[n].count;
-    const tt_rtree_strategy st = b->strategy;
-    const float *lx = s, *ly = s + cap, *lz = s + 2 * cap;
-    const float *hx = s + 3 * cap, *hy = s + 4 * cap, *hz = s + 5 * cap;
-
-    /* An entry that already contains e has every enlargement 0, the least
-     * possible value of all the leading keys: the smallest such entry wins
-     * without the quadratic overlap sums. */
-    int inside = -1;
-    for (int i = 0; i < cnt; i++) {
-        if (lx[i] <= e[0] && ly[i] <= e[1] && lz[i] <= e[2] && hx[i] >= e[3] && hy[i] >= e[4] &&
-            hz[i] >= e[5]) {
-            const float ex = hx[i] - lx[i], ey = hy[i] - ly[i], ez = hz[i] - lz[i];
-            const float ix = hx[inside < 0 ? i : inside] - lx[inside < 0 ? i : inside];
-            const float iy = hy[inside < 0 ? i : inside] - ly[inside < 0 ? i : inside];
-            const float iz = hz[inside < 0 ? i : inside] - lz[inside < 0 ? i : inside];
-            float key[2] = {ex * ey * ez, ex * ey + ey * ez + ez * ex};
-            float best[2] = {ix * iy * iz, ix * iy + iy * iz + iz * ix};
-            if (st == TT_RTREE_RSTAR_SURFACE) key[0] = best[0] = 0.0f;
-            if (inside < 0 || keys_less(key, best, 2)) inside = i;
-        }
-    }
-    if (inside >= 0) return inside;
-
     /* per entry: d overlap, d volume, volume, d surface, surface (the
      * surface with the factor 2 of rt_box_area, as the scalar code had) */
-    float dov[TT_RT_CAP + 3], dvol[TT_RT_CAP + 3], vol[TT_RT_CAP + 3];
-    float darea[TT_RT_CAP + 3], area[TT_RT_CAP + 3];
 #if defined(__SSE2__)
+    const float *lx = s, *ly = s + cap, *lz = s + 2 * cap;
+    const float *hx = s + 3 * cap, *hy = s + 4 * cap, *hz = s + 5 * cap;
     const __m128 zero = _mm_setzero_ps(), two = _mm_set1_ps(2.0f);
     const __m128 e0 = _mm_set1_ps(e[0]), e1 = _mm_set1_ps(e[1]), e2 = _mm_set1_ps(e[2]);
     const __m128 e3 = _mm_set1_ps(e[3]), e4 = _mm_set1_ps(e[4]), e5 = _mm_set1_ps(e[5]);
@@ -101,7 +76,7 @@ int rt_choose_overlap(const rt_builder *b, uint32_t n, const float e[6])
             d = _mm_add_ps(d, _mm_andnot_ps(self, go));
             own = _mm_add_ps(own, _mm_andnot_ps(self, oo));
         }
-        _mm_storeu_ps(dov + i, _mm_sub_ps(d, own));
+        _mm_storeu_ps(k->dov + i, _mm_sub_ps(d, own));
         const __m128 ex = _mm_sub_ps(Hx, Lx), ey = _mm_sub_ps(Hy, Ly), ez = _mm_sub_ps(Hz, Lz);
         const __m128 ux = _mm_sub_ps(Vx, Ux), uy = _mm_sub_ps(Vy, Uy), uz = _mm_sub_ps(Vz, Uz);
         const __m128 a = _mm_mul_ps(two, _mm_add_ps(_mm_add_ps(_mm_mul_ps(ex, ey), _mm_mul_ps(ey, ez)),
@@ -110,10 +85,10 @@ int rt_choose_overlap(const rt_builder *b, uint32_t n, const float e[6])
                                                      _mm_mul_ps(uz, ux)));
         const __m128 v = _mm_mul_ps(_mm_mul_ps(ex, ey), ez);
         const __m128 uv = _mm_mul_ps(_mm_mul_ps(ux, uy), uz);
-        _mm_storeu_ps(area + i, a);
-        _mm_storeu_ps(darea + i, _mm_sub_ps(ua, a));
-        _mm_storeu_ps(vol + i, v);
-        _mm_storeu_ps(dvol + i, _mm_sub_ps(uv, v));
+        _mm_storeu_ps(k->area + i, a);
+        _mm_storeu_ps(k->darea + i, _mm_sub_ps(ua, a));
+        _mm_storeu_ps(k->vol + i, v);
+        _mm_storeu_ps(k->dvol + i, _mm_sub_ps(uv, v));
     }
 #else
     float ent[TT_RT_CAP][6], uni[TT_RT_CAP][6];
@@ -131,24 +106,65 @@ int rt_choose_overlap(const rt_builder *b, uint32_t n, const float e[6])
                 d += rt_box_overlap(uni[i], ent[j]);
                 own += rt_box_overlap(ent[i], ent[j]);
             }
-        dov[i] = d - own;
-        area[i] = rt_box_area(ent[i]);
-        darea[i] = rt_box_area(uni[i]) - area[i];
-        vol[i] = rt_box_volume(ent[i]);
-        dvol[i] = rt_box_volume(uni[i]) - vol[i];
+        k->dov[i] = d - own;
+        k->area[i] = rt_box_area(ent[i]);
+        k->darea[i] = rt_box_area(uni[i]) - k->area[i];
+        k->vol[i] = rt_box_volume(ent[i]);
+        k->dvol[i] = rt_box_volume(uni[i]) - k->vol[i];
     }
 #endif
+}
+
+rt_overlap_keys_fn rt_overlap_keys_best(void)
+{
+#if defined(TT_HAVE_X86_KERNELS)
+    if (tt_isa_supported(TT_ISA_AVX512)) return rt_overlap_keys_avx512;
+    if (tt_isa_supported(TT_ISA_AVX2)) return rt_overlap_keys_avx2;
+#endif
+    return rt_overlap_keys_sse2;
+}
+
+int rt_choose_overlap(const rt_builder *b, uint32_t n, const float e[6])
+{
+    const float *s = rt_node_box(b, n);
+    const int cap = b->cap, cnt = b->hdr[n].count;
+    const tt_rtree_strategy st = b->strategy;
+    const float *lx = s, *ly = s + cap, *lz = s + 2 * cap;
+    const float *hx = s + 3 * cap, *hy = s + 4 * cap, *hz = s + 5 * cap;
+
+    /* An entry that already contains e has every enlargement 0, the least
+     * possible value of all the leading keys: the smallest such entry wins
+     * without the quadratic overlap sums. */
+    int inside = -1;
+    for (int i = 0; i < cnt; i++) {
+        if (lx[i] <= e[0] && ly[i] <= e[1] && lz[i] <= e[2] && hx[i] >= e[3] && hy[i] >= e[4] &&
+            hz[i] >= e[5]) {
+            const float ex = hx[i] - lx[i], ey = hy[i] - ly[i], ez = hz[i] - lz[i];
+            const float ix = hx[inside < 0 ? i : inside] - lx[inside < 0 ? i : inside];
+            const float iy = hy[inside < 0 ? i : inside] - ly[inside < 0 ? i : inside];
+            const float iz = hz[inside < 0 ? i : inside] - lz[inside < 0 ? i : inside];
+            float key[2] = {ex * ey * ez, ex * ey + ey * ez + ez * ex};
+            float best[2] = {ix * iy * iz, ix * iy + iy * iz + iz * ix};
+            if (st == TT_RTREE_RSTAR_SURFACE) key[0] = best[0] = 0.0f;
+            if (inside < 0 || keys_less(key, best, 2)) inside = i;
+        }
+    }
+    if (inside >= 0) return inside;
+
+    /* per entry: d overlap, d volume, volume, d surface, surface */
+    rt_overlap_keys k;
+    (b->overlap_keys ? b->overlap_keys : rt_overlap_keys_sse2)(s, cap, cnt, e, &k);
     float best[MAX_KEYS], key[MAX_KEYS];
     int best_i = 0;
     for (int i = 0; i < cnt; i++) {
         int nk = 0;
-        key[nk++] = dov[i];
+        key[nk++] = k.dov[i];
         if (st != TT_RTREE_RSTAR_SURFACE) {
-            key[nk++] = dvol[i];
-            key[nk++] = vol[i];
+            key[nk++] = k.dvol[i];
+            key[nk++] = k.vol[i];
         }
-        key[nk++] = darea[i];
-        key[nk++] = area[i];
+        key[nk++] = k.darea[i];
+        key[nk++] = k.area[i];
         if (i == 0 || keys_less(key, best, nk)) {
             memcpy(best, key, sizeof best);
             best_i = i;
