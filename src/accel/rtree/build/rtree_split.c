@@ -7,26 +7,51 @@
  * area on ties, because flat boxes have zero volume and would otherwise
  * tie everywhere. */
 #include <string.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "accel/rtree/rtree_box.h"
 #include "accel/rtree/build/rtree_build.h"
 
 /* ------------------------------------------------------------ R* split */
 
-/* Sorts entry indices by (primary bound, other bound) on an axis. */
-static void sort_entries(float (*ent)[6], int cnt, int axis, int by_hi, int *order)
+/* Sorts entry indices by (primary bound, other bound) on an axis, ties in
+ * index order: the order of a stable insertion sort, computed as ranks
+ * (entry j goes before entry i when its key is less, or equal with j < i),
+ * so without the insertion sort's data-dependent branches. The bounds are
+ * rows a and o of the node's SoA boxes s; four entries i at a time where
+ * SSE2 is available. The keys are never NaN, so the order is total and the
+ * ranks are a permutation. */
+static void sort_entries(const float *s, int cap, int cnt, int axis, int by_hi, int *order)
 {
-    int a = by_hi ? axis + 3 : axis, o = by_hi ? axis : axis + 3;
-    for (int i = 0; i < cnt; i++) {
-        int j = i;
-        while (j > 0) {
-            const float *p = ent[order[j - 1]];
-            if (p[a] < ent[i][a] || (p[a] == ent[i][a] && p[o] <= ent[i][o])) break;
-            order[j] = order[j - 1];
-            j--;
+    const float *A = s + (by_hi ? axis + 3 : axis) * cap, *O = s + (by_hi ? axis : axis + 3) * cap;
+    int rank[TT_RT_CAP + 3];
+#if defined(__SSE2__)
+    for (int i = 0; i < cnt; i += 4) {
+        /* rows hold cap (a multiple of 4) floats: whole vectors stay in the row */
+        const __m128 Ai = _mm_loadu_ps(A + i), Oi = _mm_loadu_ps(O + i);
+        const __m128i idx = _mm_add_epi32(_mm_set1_epi32(i), _mm_set_epi32(3, 2, 1, 0));
+        __m128i r = _mm_setzero_si128();
+        for (int j = 0; j < cnt; j++) {
+            const __m128 Aj = _mm_set1_ps(A[j]), Oj = _mm_set1_ps(O[j]);
+            const __m128 jlt = _mm_castsi128_ps(_mm_cmpgt_epi32(idx, _mm_set1_epi32(j)));
+            const __m128 tie = _mm_or_ps(_mm_cmplt_ps(Oj, Oi), _mm_and_ps(_mm_cmpeq_ps(Oj, Oi), jlt));
+            const __m128 before =
+                _mm_or_ps(_mm_cmplt_ps(Aj, Ai), _mm_and_ps(_mm_cmpeq_ps(Aj, Ai), tie));
+            r = _mm_sub_epi32(r, _mm_castps_si128(before)); /* a true lane is -1 */
         }
-        order[j] = i;
+        _mm_storeu_si128((__m128i *)(rank + i), r);
     }
+#else
+    for (int i = 0; i < cnt; i++) {
+        int r = 0;
+        for (int j = 0; j < cnt; j++)
+            r += A[j] < A[i] || (A[j] == A[i] && (O[j] < O[i] || (O[j] == O[i] && j < i)));
+        rank[i] = r;
+    }
+#endif
+    for (int i = 0; i < cnt; i++) order[rank[i]] = i;
 }
 
 /* Prefix and suffix boxes of the entries in `order`: prefix[k] bounds the
@@ -58,7 +83,8 @@ void rt_split_rstar(const rt_builder *b, uint32_t n, uint8_t *group)
     const float *s = rt_node_box(b, n);
     float ent[TT_RT_CAP][6];
     for (int i = 0; i < cnt; i++) rt_soa_get(s, cap, i, ent[i]);
-    float prefix[TT_RT_CAP + 1][6], suffix[TT_RT_CAP + 1][6];
+    /* the distributions' boxes of every sort, kept for ChooseSplitIndex */
+    float prefix[3][2][TT_RT_CAP + 1][6], suffix[3][2][TT_RT_CAP + 1][6];
 
     /* ChooseSplitAxis: the least sum of surface areas (margins) over all
      * distributions of both sorts. */
@@ -68,10 +94,10 @@ void rt_split_rstar(const rt_builder *b, uint32_t n, uint8_t *group)
     for (int a = 0; a < 3; a++) {
         float margin = 0.0f;
         for (int by_hi = 0; by_hi < 2; by_hi++) {
-            sort_entries(ent, cnt, a, by_hi, order[a][by_hi]);
-            prefix_suffix(ent, order[a][by_hi], cnt, m, prefix, suffix);
-            for (int k = m; k <= cnt - m; k++)
-                margin += rt_box_area(prefix[k]) + rt_box_area(suffix[k]);
+            float(*pre)[6] = prefix[a][by_hi], (*suf)[6] = suffix[a][by_hi];
+            sort_entries(s, cap, cnt, a, by_hi, order[a][by_hi]);
+            prefix_suffix(ent, order[a][by_hi], cnt, m, pre, suf);
+            for (int k = m; k <= cnt - m; k++) margin += rt_box_area(pre[k]) + rt_box_area(suf[k]);
         }
         if (margin < best_margin) {
             best_margin = margin;
@@ -83,12 +109,12 @@ void rt_split_rstar(const rt_builder *b, uint32_t n, uint8_t *group)
     float k0 = TT_INF, k1 = TT_INF, k2 = TT_INF;
     int best_sort = 0, best_k = m;
     for (int by_hi = 0; by_hi < 2; by_hi++) {
-        prefix_suffix(ent, order[axis][by_hi], cnt, m, prefix, suffix);
+        float(*pre)[6] = prefix[axis][by_hi], (*suf)[6] = suffix[axis][by_hi];
         for (int k = m; k <= cnt - m; k++) {
-            const float ov = rt_box_overlap(prefix[k], suffix[k]);
+            const float ov = rt_box_overlap(pre[k], suf[k]);
             if (ov > k0) continue;
-            const float vol = rt_box_volume(prefix[k]) + rt_box_volume(suffix[k]);
-            const float area = rt_box_area(prefix[k]) + rt_box_area(suffix[k]);
+            const float vol = rt_box_volume(pre[k]) + rt_box_volume(suf[k]);
+            const float area = rt_box_area(pre[k]) + rt_box_area(suf[k]);
             if (ov < k0 || vol < k1 || (vol == k1 && area < k2)) {
                 k0 = ov;
                 k1 = vol;
