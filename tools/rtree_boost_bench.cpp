@@ -120,7 +120,7 @@ int main(int argc, char **argv)
             tt_rtree_options lm = load;
             lm.m = opt[k].m;
             const double sl = k == 0 ? sah_load : rir_sah(ctx, scene, &lm);
-            printf("%-16s %8u | %-28s %9.1f %9.1f | %8.2fx %7u | %9.2f %9.2f\n", name, T, o,
+            printf("%-16s %8u | %-28s %9.3f %9.3f | %8.2fx %7u | %9.2f %9.2f\n", name, T, o,
                    1e3 * best[k], 1e3 * best_boost, best_boost / best[k], res[k].nodes, sah, sl);
         }
         fflush(stdout);
