@@ -31,6 +31,9 @@ typedef __m256 pk_m;
 #define PK_CMP_GT(a, b) _mm256_cmp_ps(a, b, _CMP_GT_OQ)
 #define PK_CMP_GE(a, b) _mm256_cmp_ps(a, b, _CMP_GE_OQ)
 #define PK_CMP_EQ(a, b) _mm256_cmp_ps(a, b, _CMP_EQ_OQ)
+#define PK_CMP_LE(a, b) _mm256_cmp_ps(a, b, _CMP_LE_OQ)
+#define PK_ANDNOT(a, b) _mm256_andnot_ps(a, b) /* not a, and b (bits) */
+#define PK_SETI(x) _mm256_set1_epi32((int)(x))
 #define PK_CMP_NEQ(a, b) _mm256_cmp_ps(a, b, _CMP_NEQ_UQ)
 #define PK_MAND _mm256_and_ps
 #define PK_MOR _mm256_or_ps

@@ -31,6 +31,9 @@ typedef __mmask16 pk_m;
 #define PK_CMP_GT(a, b) _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ)
 #define PK_CMP_GE(a, b) _mm512_cmp_ps_mask(a, b, _CMP_GE_OQ)
 #define PK_CMP_EQ(a, b) _mm512_cmp_ps_mask(a, b, _CMP_EQ_OQ)
+#define PK_CMP_LE(a, b) _mm512_cmp_ps_mask(a, b, _CMP_LE_OQ)
+#define PK_ANDNOT(a, b) _mm512_andnot_ps(a, b) /* not a, and b (bits) */
+#define PK_SETI(x) _mm512_set1_epi32((int)(x))
 #define PK_CMP_NEQ(a, b) _mm512_cmp_ps_mask(a, b, _CMP_NEQ_UQ)
 #define PK_MAND(a, b) ((pk_m)((a) & (b)))
 #define PK_MOR(a, b) ((pk_m)((a) | (b)))
