@@ -14,6 +14,12 @@
 #define PK_L 8
 typedef __m256 pk_v;
 typedef __m256 pk_m;
+typedef __m256i pk_vi;
+/* lanes a[idx] (idx < 8) or b[idx - 8]: bit 3 of idx, shifted into the
+ * sign bit, picks b */
+#define PK_PERM2(idx, a, b)                                                                      \
+    _mm256_blendv_ps(_mm256_permutevar8x32_ps(a, idx), _mm256_permutevar8x32_ps(b, idx),         \
+                     _mm256_castsi256_ps(_mm256_slli_epi32(idx, 28)))
 #define PK_LOAD(p) _mm256_load_ps(p)
 #define PK_STORE(p, x) _mm256_store_ps(p, x)
 #define PK_LOADI(p) _mm256_load_si256((const __m256i *)(const void *)(p))
