@@ -550,8 +550,13 @@ void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_wray *rays, u
         TT_COUNT(stats, packets, 1);
         TT_COUNT(stats, rays.boxes, c);
         TT_VARIANT(KD_FN(kp_load))(T, &P, rays, idx[g], c);
-        for (uint32_t v0 = 0; v0 < P.vecs; v0 += KP_K)
-            TT_VARIANT(KD_FN(kp_walk))(T, &P, v0, any, stats);
+        /* a walk inlined for each mode: the occlusion tests fold away */
+        if (any)
+            for (uint32_t v0 = 0; v0 < P.vecs; v0 += KP_K)
+                TT_VARIANT(KD_FN(kp_walk))(T, &P, v0, 1, stats);
+        else
+            for (uint32_t v0 = 0; v0 < P.vecs; v0 += KP_K)
+                TT_VARIANT(KD_FN(kp_walk))(T, &P, v0, 0, stats);
         for (uint32_t j = 0; j < c; j++) {
             const uint32_t i = idx[g][j];
             if (any) {
