@@ -155,11 +155,15 @@ KP_INLINE uint32_t TT_VARIANT(KD_FN(kp_tris))(const tt_kd_view *T, const uint32_
         uint32_t zl =
             PK_BITS(PK_MOR(PK_MOR(PK_CMP_EQ(U, zero), PK_CMP_EQ(V, zero)), PK_CMP_EQ(W, zero))) &
             mm;
-        const pk_m neg = PK_MOR(PK_MOR(PK_CMP_LT(U, zero), PK_CMP_LT(V, zero)), PK_CMP_LT(W, zero));
-        const pk_m pos = PK_MOR(PK_MOR(PK_CMP_GT(U, zero), PK_CMP_GT(V, zero)), PK_CMP_GT(W, zero));
+        /* Inside: no edge function < 0 while another is > 0. Away from
+         * the zero lanes (zl, handled below) that is U, V, W of one sign:
+         * the sign bits of U ^ V and U ^ W clear. A NaN lane may come out
+         * either way here, but its det and t are NaN and the t test below
+         * refuses it as tt_intersect_triangle does. */
+        const uint32_t inside =
+            ~PK_SIGNS(PK_XOR_OR(U, V, W)) & mm & ~zl;
         /* most lanes miss most triangles on the edge functions: skip the
          * division when every active lane does */
-        const uint32_t inside = ~PK_BITS(PK_MAND(neg, pos)) & mm & ~zl;
         if (!(inside | zl)) continue;
         const pk_v det = PK_ADD(PK_ADD(U, V), W);
         const pk_v Tv = PK_ADD(PK_ADD(PK_MUL(U, PK_MUL(sz, az)), PK_MUL(V, PK_MUL(sz, bz))),
@@ -255,7 +259,7 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint3
         uint32_t c = 0;
         for (uint32_t j = 0; j < 2; j++)
             for (uint32_t b = mm[j]; b; b &= b - 1) lanes[c++] = j * PK_L + (uint32_t)__builtin_ctz(b);
-        for (uint32_t r = c; r < PK_L; r++) lanes[r] = lanes[0];
+        for (uint32_t r = c; r < PK_L; r++) lanes[r] = 0; /* never active */
         const pk_vi ix = PK_LOADI(lanes);
 #define KP_G(a) PK_PERM2(ix, PK_LOAD((a) + base), PK_LOAD((a) + base + PK_L))
         const pk_v ox = KP_G(P->o[kx]), oy = KP_G(P->o[ky]), oz = KP_G(P->o[kz]);

@@ -40,6 +40,9 @@ typedef __m256i pk_vi;
 #define PK_CMP_LE(a, b) _mm256_cmp_ps(a, b, _CMP_LE_OQ)
 #define PK_ANDNOT(a, b) _mm256_andnot_ps(a, b) /* not a, and b (bits) */
 #define PK_SETI(x) _mm256_set1_epi32((int)(x))
+/* (a ^ b) | (a ^ c), bitwise; the lanes whose sign bit is set */
+#define PK_XOR_OR(a, b, c) _mm256_or_ps(_mm256_xor_ps(a, b), _mm256_xor_ps(a, c))
+#define PK_SIGNS(x) ((uint32_t)_mm256_movemask_ps(x))
 #define PK_CMP_NEQ(a, b) _mm256_cmp_ps(a, b, _CMP_NEQ_UQ)
 #define PK_MAND _mm256_and_ps
 #define PK_MOR _mm256_or_ps

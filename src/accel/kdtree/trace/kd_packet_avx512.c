@@ -37,6 +37,9 @@ typedef __m512i pk_vi;
 #define PK_CMP_LE(a, b) _mm512_cmp_ps_mask(a, b, _CMP_LE_OQ)
 #define PK_ANDNOT(a, b) _mm512_andnot_ps(a, b) /* not a, and b (bits) */
 #define PK_SETI(x) _mm512_set1_epi32((int)(x))
+/* (a ^ b) | (a ^ c), bitwise; the lanes whose sign bit is set */
+#define PK_XOR_OR(a, b, c) _mm512_or_ps(_mm512_xor_ps(a, b), _mm512_xor_ps(a, c))
+#define PK_SIGNS(x) ((uint32_t)_mm512_movepi32_mask(_mm512_castps_si512(x)))
 #define PK_CMP_NEQ(a, b) _mm512_cmp_ps_mask(a, b, _CMP_NEQ_UQ)
 #define PK_MAND(a, b) ((pk_m)((a) & (b)))
 #define PK_MOR(a, b) ((pk_m)((a) | (b)))
