@@ -69,6 +69,10 @@
 /* (Finishing a walk's subtree ray by ray once one ray is left in it, with
  * scalar steps, measured level with the vector steps; two or three rays
  * left measured 5-10% slower: not kept.) */
+/* Leaves: pack a walk's active lanes into one vector when they fit. */
+#ifndef KP_PACK
+#define KP_PACK 1
+#endif
 /* Groups with fewer rays go ray by ray. */
 #ifndef KP_MIN_RAYS
 #define KP_MIN_RAYS 4u
@@ -116,7 +120,110 @@ typedef struct kp_entry {
 } kp_entry;
 #endif
 
-/* A leaf's triangles against lanes m[] of the walk at vector v0. */
+/* A leaf's triangles against the lanes mm of one vector of rays: origin
+ * (ox, oy, oz) in the group's (kx, ky, kz) order, shear (sx, sy, sz),
+ * tmin, the best t so far *pbt; u, v, prim of the lanes in the arrays
+ * bu, bv, bp (PK_L each, updated where a lane's best changes); ray[l] the
+ * lane's ray (the zero-edge recomputation). Returns the lanes that hit
+ * (any = 1: occluded) or whose best changed (any = 0). */
+KP_INLINE uint32_t TT_VARIANT(KD_FN(kp_tris))(const tt_kd_view *T, const uint32_t *refs,
+                                              uint32_t count, const int kx, const int ky,
+                                              const int kz, const pk_v ox, const pk_v oy,
+                                              const pk_v oz, const pk_v sx, const pk_v sy,
+                                              const pk_v sz, const pk_v tmin, pk_v *pbt,
+                                              float *bu, float *bv, uint32_t *bp, uint32_t mm,
+                                              const tt_wray *const *ray, const int any)
+{
+    const pk_v zero = PK_SET1(0.0f), one = PK_SET1(1.0f);
+    pk_v bt = *pbt;
+    uint32_t out = 0;
+    for (uint32_t i = 0; i < count && mm; i++) {
+        const uint32_t id = refs[i];
+        const float *p = T->tri + 9 * (size_t)id;
+        const pk_v ax = PK_SUB(PK_SET1(p[kx]), ox), ay = PK_SUB(PK_SET1(p[ky]), oy),
+                   az = PK_SUB(PK_SET1(p[kz]), oz);
+        const pk_v bx = PK_SUB(PK_SET1(p[3 + kx]), ox), by = PK_SUB(PK_SET1(p[3 + ky]), oy),
+                   bz = PK_SUB(PK_SET1(p[3 + kz]), oz);
+        const pk_v cx = PK_SUB(PK_SET1(p[6 + kx]), ox), cy = PK_SUB(PK_SET1(p[6 + ky]), oy),
+                   cz = PK_SUB(PK_SET1(p[6 + kz]), oz);
+        const pk_v Ax = PK_SUB(ax, PK_MUL(sx, az)), Ay = PK_SUB(ay, PK_MUL(sy, az));
+        const pk_v Bx = PK_SUB(bx, PK_MUL(sx, bz)), By = PK_SUB(by, PK_MUL(sy, bz));
+        const pk_v Cx = PK_SUB(cx, PK_MUL(sx, cz)), Cy = PK_SUB(cy, PK_MUL(sy, cz));
+        const pk_v U = PK_SUB(PK_MUL(Cx, By), PK_MUL(Cy, Bx));
+        const pk_v V = PK_SUB(PK_MUL(Ax, Cy), PK_MUL(Ay, Cx));
+        const pk_v W = PK_SUB(PK_MUL(Bx, Ay), PK_MUL(By, Ax));
+        uint32_t zl =
+            PK_BITS(PK_MOR(PK_MOR(PK_CMP_EQ(U, zero), PK_CMP_EQ(V, zero)), PK_CMP_EQ(W, zero))) &
+            mm;
+        /* Inside: no edge function < 0 while another is > 0. Away from
+         * the zero lanes (zl, handled below) that is U, V, W of one sign:
+         * the sign bits of U ^ V and U ^ W clear. A NaN lane may come out
+         * either way here, but its det and t are NaN and the t test below
+         * refuses it as tt_intersect_triangle does. */
+        const uint32_t inside =
+            ~PK_SIGNS(PK_XOR_OR(U, V, W)) & mm & ~zl;
+        /* most lanes miss most triangles on the edge functions: skip the
+         * division when every active lane does */
+        if (!(inside | zl)) continue;
+        const pk_v det = PK_ADD(PK_ADD(U, V), W);
+        const pk_v Tv = PK_ADD(PK_ADD(PK_MUL(U, PK_MUL(sz, az)), PK_MUL(V, PK_MUL(sz, bz))),
+                               PK_MUL(W, PK_MUL(sz, cz)));
+        const pk_v inv_det = PK_DIV(one, det);
+        const pk_v tt = PK_MUL(Tv, inv_det);
+        const pk_m ok =
+            PK_MAND(PK_MAND(PK_CMP_NEQ(det, zero), PK_CMP_GE(tt, tmin)), PK_CMP_LT(tt, bt));
+        const uint32_t acc = PK_BITS(ok) & inside;
+        if (!(acc | zl)) continue;
+        /* tt_intersect_triangle's zero-area refusal (a property of the
+         * triangle: the same floats whichever lane asks) */
+        {
+            const float e1x = p[3] - p[0], e1y = p[4] - p[1], e1z = p[5] - p[2];
+            const float e2x = p[6] - p[0], e2y = p[7] - p[1], e2z = p[8] - p[2];
+            if (e1y * e2z - e1z * e2y == 0.0f && e1z * e2x - e1x * e2z == 0.0f &&
+                e1x * e2y - e1y * e2x == 0.0f)
+                continue;
+        }
+        if (any) {
+            out |= acc;
+            mm &= ~acc;
+        } else if (acc) {
+            const pk_m am = PK_MASK(acc);
+            bt = PK_BLEND(am, bt, tt);
+            PK_STORE(bu, PK_BLEND(am, PK_LOAD(bu), PK_MUL(V, inv_det)));
+            PK_STORE(bv, PK_BLEND(am, PK_LOAD(bv), PK_MUL(W, inv_det)));
+            PK_STOREI(bp, PK_BLENDI(am, PK_LOADI(bp), id));
+            out |= acc;
+        }
+        if (zl) {
+            /* zero edge functions: tt_intersect_triangle's double-precision
+             * recomputation, lane by lane (rare) */
+            _Alignas(64) float bts[PK_L];
+            PK_STORE(bts, bt);
+            for (; zl; zl &= zl - 1) {
+                const uint32_t l = (uint32_t)__builtin_ctz(zl);
+                float th, uh, vh;
+                if (!tt_intersect_triangle(ray[l], p, p + 3, p + 6, bts[l], &th, &uh, &vh))
+                    continue;
+                out |= 1u << l;
+                if (any) {
+                    mm &= ~(1u << l);
+                } else {
+                    bts[l] = th;
+                    bu[l] = uh;
+                    bv[l] = vh;
+                    bp[l] = id;
+                }
+            }
+            bt = PK_LOAD(bts);
+        }
+    }
+    *pbt = bt;
+    return out;
+}
+
+/* A leaf's triangles against lanes m[] of the walk at vector v0. When the
+ * walk's active lanes fit one vector, they are packed into one (PK_PERM2)
+ * and the leaf is tested once instead of once per vector. */
 KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint32_t v0,
                                              const uint32_t *m, tt_kd_node leaf, const int any,
                                              tt_packet_stats *stats)
@@ -137,95 +244,70 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint3
 #endif
     if (!count) return;
     const int kx = P->kx, ky = P->ky, kz = P->kz;
-    const pk_v zero = PK_SET1(0.0f), one = PK_SET1(1.0f);
+    uint32_t mm[KP_K], tot = 0, nz = 0;
+    for (uint32_t j = 0; j < KP_K; j++) {
+        mm[j] = m[j];
+        if (any) mm[j] &= ~P->done[v0 + j];
+        tot += kp_popcount(mm[j]);
+        nz += mm[j] != 0;
+    }
+#if KP_PACK
+    if (KP_K == 2 && nz == 2 && tot <= PK_L) {
+        /* lane r of the packed vector is the walk's lane lanes[r] */
+        const uint32_t base = v0 * PK_L;
+        _Alignas(64) uint32_t lanes[PK_L];
+        uint32_t c = 0;
+        for (uint32_t j = 0; j < 2; j++)
+            for (uint32_t b = mm[j]; b; b &= b - 1) lanes[c++] = j * PK_L + (uint32_t)__builtin_ctz(b);
+        for (uint32_t r = c; r < PK_L; r++) lanes[r] = 0; /* never active */
+        const pk_vi ix = PK_LOADI(lanes);
+#define KP_G(a) PK_PERM2(ix, PK_LOAD((a) + base), PK_LOAD((a) + base + PK_L))
+        const pk_v ox = KP_G(P->o[kx]), oy = KP_G(P->o[ky]), oz = KP_G(P->o[kz]);
+        const pk_v sx = KP_G(P->sx), sy = KP_G(P->sy), sz = KP_G(P->sz);
+        const pk_v tmin = KP_G(P->tmin);
+        pk_v bt = KP_G(P->t);
+#undef KP_G
+        _Alignas(64) float bu[PK_L], bv[PK_L], ts[PK_L];
+        _Alignas(64) uint32_t bp[PK_L];
+        const tt_wray *ray[PK_L];
+        for (uint32_t r = 0; r < c; r++) ray[r] = P->ray[base + lanes[r]];
+        uint32_t out = TT_VARIANT(KD_FN(kp_tris))(T, refs, count, kx, ky, kz, ox, oy, oz, sx, sy,
+                                                  sz, tmin, &bt, bu, bv, bp,
+                                                  c == 32 ? ~0u : (1u << c) - 1u, ray, any);
+        if (any) {
+            for (; out; out &= out - 1) {
+                const uint32_t l = lanes[__builtin_ctz(out)];
+                P->done[v0 + l / PK_L] |= 1u << (l % PK_L);
+            }
+        } else if (out) {
+            PK_STORE(ts, bt);
+            for (; out; out &= out - 1) {
+                const uint32_t r = (uint32_t)__builtin_ctz(out), l = base + lanes[r];
+                P->t[l] = ts[r];
+                P->u[l] = bu[r];
+                P->v[l] = bv[r];
+                P->prim[l] = bp[r];
+            }
+        }
+        return;
+    }
+#endif
+    (void)tot;
+    (void)nz;
     for (uint32_t j = 0; j < KP_K; j++) {
         const uint32_t vi = v0 + j, base = vi * PK_L;
-        uint32_t mm = m[j];
-        if (any) mm &= ~P->done[vi];
-        if (!mm) continue;
+        if (!mm[j]) continue;
         const pk_v ox = PK_LOAD(P->o[kx] + base), oy = PK_LOAD(P->o[ky] + base),
                    oz = PK_LOAD(P->o[kz] + base);
         const pk_v sx = PK_LOAD(P->sx + base), sy = PK_LOAD(P->sy + base),
                    sz = PK_LOAD(P->sz + base);
         const pk_v tmin = PK_LOAD(P->tmin + base);
         pk_v bt = PK_LOAD(P->t + base);
-        for (uint32_t i = 0; i < count && mm; i++) {
-            const uint32_t id = refs[i];
-            const float *p = T->tri + 9 * (size_t)id;
-            const pk_v ax = PK_SUB(PK_SET1(p[kx]), ox), ay = PK_SUB(PK_SET1(p[ky]), oy),
-                       az = PK_SUB(PK_SET1(p[kz]), oz);
-            const pk_v bx = PK_SUB(PK_SET1(p[3 + kx]), ox), by = PK_SUB(PK_SET1(p[3 + ky]), oy),
-                       bz = PK_SUB(PK_SET1(p[3 + kz]), oz);
-            const pk_v cx = PK_SUB(PK_SET1(p[6 + kx]), ox), cy = PK_SUB(PK_SET1(p[6 + ky]), oy),
-                       cz = PK_SUB(PK_SET1(p[6 + kz]), oz);
-            const pk_v Ax = PK_SUB(ax, PK_MUL(sx, az)), Ay = PK_SUB(ay, PK_MUL(sy, az));
-            const pk_v Bx = PK_SUB(bx, PK_MUL(sx, bz)), By = PK_SUB(by, PK_MUL(sy, bz));
-            const pk_v Cx = PK_SUB(cx, PK_MUL(sx, cz)), Cy = PK_SUB(cy, PK_MUL(sy, cz));
-            const pk_v U = PK_SUB(PK_MUL(Cx, By), PK_MUL(Cy, Bx));
-            const pk_v V = PK_SUB(PK_MUL(Ax, Cy), PK_MUL(Ay, Cx));
-            const pk_v W = PK_SUB(PK_MUL(Bx, Ay), PK_MUL(By, Ax));
-            uint32_t zl = PK_BITS(PK_MOR(PK_MOR(PK_CMP_EQ(U, zero), PK_CMP_EQ(V, zero)),
-                                         PK_CMP_EQ(W, zero))) &
-                          mm;
-            const pk_m neg =
-                PK_MOR(PK_MOR(PK_CMP_LT(U, zero), PK_CMP_LT(V, zero)), PK_CMP_LT(W, zero));
-            const pk_m pos =
-                PK_MOR(PK_MOR(PK_CMP_GT(U, zero), PK_CMP_GT(V, zero)), PK_CMP_GT(W, zero));
-            /* most lanes miss most triangles on the edge functions: skip
-             * the division when every active lane does */
-            const uint32_t inside = ~PK_BITS(PK_MAND(neg, pos)) & mm & ~zl;
-            if (!(inside | zl)) continue;
-            const pk_v det = PK_ADD(PK_ADD(U, V), W);
-            const pk_v Tv = PK_ADD(PK_ADD(PK_MUL(U, PK_MUL(sz, az)), PK_MUL(V, PK_MUL(sz, bz))),
-                                   PK_MUL(W, PK_MUL(sz, cz)));
-            const pk_v inv_det = PK_DIV(one, det);
-            const pk_v tt = PK_MUL(Tv, inv_det);
-            const pk_m ok = PK_MAND(PK_MAND(PK_CMP_NEQ(det, zero), PK_CMP_GE(tt, tmin)),
-                                    PK_CMP_LT(tt, bt));
-            uint32_t acc = PK_BITS(ok) & inside;
-            if (!(acc | zl)) continue;
-            /* tt_intersect_triangle's zero-area refusal (a property of the
-             * triangle: the same floats whichever lane asks) */
-            {
-                const float e1x = p[3] - p[0], e1y = p[4] - p[1], e1z = p[5] - p[2];
-                const float e2x = p[6] - p[0], e2y = p[7] - p[1], e2z = p[8] - p[2];
-                if (e1y * e2z - e1z * e2y == 0.0f && e1z * e2x - e1x * e2z == 0.0f &&
-                    e1x * e2y - e1y * e2x == 0.0f)
-                    continue;
-            }
-            if (any) {
-                P->done[vi] |= acc;
-                mm &= ~acc;
-            } else if (acc) {
-                const pk_m am = PK_MASK(acc);
-                bt = PK_BLEND(am, bt, tt);
-                PK_STORE(P->u + base, PK_BLEND(am, PK_LOAD(P->u + base), PK_MUL(V, inv_det)));
-                PK_STORE(P->v + base, PK_BLEND(am, PK_LOAD(P->v + base), PK_MUL(W, inv_det)));
-                PK_STOREI(P->prim + base, PK_BLENDI(am, PK_LOADI(P->prim + base), id));
-            }
-            if (zl) {
-                /* zero edge functions: tt_intersect_triangle's
-                 * double-precision recomputation, lane by lane (rare) */
-                PK_STORE(P->t + base, bt);
-                for (; zl; zl &= zl - 1) {
-                    const uint32_t l = base + (uint32_t)__builtin_ctz(zl);
-                    float th, uh, vh;
-                    if (!tt_intersect_triangle(P->ray[l], p, p + 3, p + 6, P->t[l], &th, &uh, &vh))
-                        continue;
-                    if (any) {
-                        P->done[vi] |= 1u << (l - base);
-                        mm &= ~(1u << (l - base));
-                    } else {
-                        P->t[l] = th;
-                        P->u[l] = uh;
-                        P->v[l] = vh;
-                        P->prim[l] = id;
-                    }
-                }
-                bt = PK_LOAD(P->t + base);
-            }
-        }
-        PK_STORE(P->t + base, bt);
+        const uint32_t out = TT_VARIANT(KD_FN(kp_tris))(
+            T, refs, count, kx, ky, kz, ox, oy, oz, sx, sy, sz, tmin, &bt, P->u + base,
+            P->v + base, P->prim + base, mm[j], P->ray + base, any);
+        if (any) P->done[vi] |= out;
+        else PK_STORE(P->t + base, bt);
     }
 }
 
@@ -335,7 +417,13 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_walk))(const tt_kd_view *T, kp_rays *P, uint3
     }
 }
 
-/* Loads the group's rays idx[0..n) into P, in the caller's order. */
+/* Loads the group's rays idx[0..n) into P, in the caller's order: a
+ * scalar copy into structure of arrays, then the root interval and the
+ * bands a vector at a time (the per-ray scalar form, tt_kd_band_init +
+ * tt_kd_root_interval, took about 9% of the primary packet time, perf).
+ * Every lane does tt_kd_box_interval's float operations in its order: the
+ * group's signs fix each axis's near and far face (no ray here has a zero
+ * direction component), so the faces are the same for all its lanes. */
 KP_INLINE void TT_VARIANT(KD_FN(kp_load))(const tt_kd_view *T, kp_rays *P,
                                              const tt_wray *rays, const uint16_t *idx, uint32_t n)
 {
@@ -347,33 +435,62 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_load))(const tt_kd_view *T, kp_rays *P,
     P->ky = r0->ky;
     P->kz = r0->kz;
     for (int k = 0; k < 3; k++) P->down[k] = r0->dir[k] < 0.0f;
-    float m[3];
-    for (int k = 0; k < 3; k++)
-        m[k] = tt_kd_max(fabsf(TT_LDG(&T->aug[0].lo[k])), fabsf(TT_LDG(&T->aug[0].hi[k])));
-    for (uint32_t v = 0; v < P->vecs; v++) P->live[v] = P->done[v] = 0;
-    for (uint32_t i = 0; i < P->vecs * PK_L; i++) {
+    const uint32_t lanes = P->vecs * PK_L;
+    for (uint32_t i = 0; i < lanes; i++) {
         const tt_wray *r = &rays[idx[i < n ? i : 0]];
         P->ray[i] = r;
-        tt_kd_band band;
-        tt_kd_band_init(&band, r);
-        float ta = 0.0f, tb = 0.0f;
-        const int hit = i < n && tt_kd_root_interval(T, r, &band, &ta, &tb);
-        for (int k = 0; k < 3; k++) {
-            P->o[k][i] = r->org[k];
-            P->inv[k][i] = r->inv[k];
-            /* tt_kd_htr_moving's per-axis band */
-            P->e[k][i] = m[k] * band.bi[k] + band.bo[k];
-        }
-        P->ta[i] = ta;
-        P->tb[i] = tt_kd_min(tb, r->tmax);
+        P->o[0][i] = r->org[0];
+        P->o[1][i] = r->org[1];
+        P->o[2][i] = r->org[2];
+        P->inv[0][i] = r->inv[0];
+        P->inv[1][i] = r->inv[1];
+        P->inv[2][i] = r->inv[2];
         P->tmin[i] = r->tmin;
         P->t[i] = r->tmax;
-        P->u[i] = P->v[i] = 0.0f;
-        P->prim[i] = TT_INVALID_ID;
         P->sx[i] = r->sx;
         P->sy[i] = r->sy;
         P->sz[i] = r->sz;
-        if (hit) P->live[i / PK_L] |= 1u << (i % PK_L);
+    }
+    const int empty = T->empty;
+    float m[3], fn[3], ff[3];
+    for (int k = 0; k < 3; k++) {
+        const float lo = TT_LDG(&T->aug[0].lo[k]), hi = TT_LDG(&T->aug[0].hi[k]);
+        m[k] = tt_kd_max(fabsf(lo), fabsf(hi));
+        fn[k] = P->down[k] ? hi : lo;
+        ff[k] = P->down[k] ? lo : hi;
+    }
+    const pk_v band = PK_SET1(TT_KD_BAND), zero = PK_SET1(0.0f), sign = PK_SET1(-0.0f);
+    for (uint32_t v = 0; v < P->vecs; v++) {
+        const uint32_t base = v * PK_L;
+        const pk_v tmax = PK_LOAD(P->t + base);
+        pk_v t0 = PK_LOAD(P->tmin + base), t1 = PK_SET1(TT_INF);
+        for (int k = 0; k < 3; k++) {
+            const pk_v o = PK_LOAD(P->o[k] + base), inv = PK_LOAD(P->inv[k] + base);
+            /* tt_kd_band_init */
+            const pk_v bi = PK_MUL(band, PK_ANDNOT(sign, inv));
+            const pk_v bo = PK_MUL(bi, PK_ANDNOT(sign, o));
+            /* tt_kd_htr_moving's per-axis band */
+            PK_STORE(P->e[k] + base, PK_ADD(PK_MUL(PK_SET1(m[k]), bi), bo));
+            /* tt_kd_box_interval with the band */
+            pk_v tn = PK_MUL(PK_SUB(PK_SET1(fn[k]), o), inv);
+            pk_v tf = PK_MUL(PK_SUB(PK_SET1(ff[k]), o), inv);
+            tn = PK_SUB(tn, PK_ADD(PK_MUL(PK_SET1(fabsf(fn[k])), bi), bo));
+            tf = PK_ADD(tf, PK_ADD(PK_MUL(PK_SET1(fabsf(ff[k])), bi), bo));
+            t0 = PK_MAX(t0, tn);
+            t1 = PK_MIN(t1, tf);
+        }
+        uint32_t hit = PK_BITS(PK_MAND(PK_CMP_LE(t0, t1), PK_CMP_LT(t0, tmax)));
+        if (empty) hit = 0;
+        if (base + PK_L > n) hit &= base >= n ? 0u : (1u << (n - base)) - 1u;
+        P->live[v] = hit;
+        P->done[v] = 0;
+        /* missing lanes: [0, 0] as before (never live) */
+        const pk_m hm = PK_MASK(hit);
+        PK_STORE(P->ta + base, PK_BLEND(hm, zero, t0));
+        PK_STORE(P->tb + base, PK_BLEND(hm, zero, PK_MIN(t1, tmax)));
+        PK_STORE(P->u + base, zero);
+        PK_STORE(P->v + base, zero);
+        PK_STOREI(P->prim + base, PK_SETI(TT_INVALID_ID));
     }
 }
 
@@ -437,8 +554,13 @@ void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_wray *rays, u
         TT_COUNT(stats, packets, 1);
         TT_COUNT(stats, rays.boxes, c);
         TT_VARIANT(KD_FN(kp_load))(T, &P, rays, idx[g], c);
-        for (uint32_t v0 = 0; v0 < P.vecs; v0 += KP_K)
-            TT_VARIANT(KD_FN(kp_walk))(T, &P, v0, any, stats);
+        /* a walk inlined for each mode: the occlusion tests fold away */
+        if (any)
+            for (uint32_t v0 = 0; v0 < P.vecs; v0 += KP_K)
+                TT_VARIANT(KD_FN(kp_walk))(T, &P, v0, 1, stats);
+        else
+            for (uint32_t v0 = 0; v0 < P.vecs; v0 += KP_K)
+                TT_VARIANT(KD_FN(kp_walk))(T, &P, v0, 0, stats);
         for (uint32_t j = 0; j < c; j++) {
             const uint32_t i = idx[g][j];
             if (any) {

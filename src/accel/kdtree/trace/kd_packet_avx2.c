@@ -14,6 +14,12 @@
 #define PK_L 8
 typedef __m256 pk_v;
 typedef __m256 pk_m;
+typedef __m256i pk_vi;
+/* lanes a[idx] (idx < 8) or b[idx - 8]: bit 3 of idx, shifted into the
+ * sign bit, picks b */
+#define PK_PERM2(idx, a, b)                                                                      \
+    _mm256_blendv_ps(_mm256_permutevar8x32_ps(a, idx), _mm256_permutevar8x32_ps(b, idx),         \
+                     _mm256_castsi256_ps(_mm256_slli_epi32(idx, 28)))
 #define PK_LOAD(p) _mm256_load_ps(p)
 #define PK_STORE(p, x) _mm256_store_ps(p, x)
 #define PK_LOADI(p) _mm256_load_si256((const __m256i *)(const void *)(p))
@@ -31,6 +37,12 @@ typedef __m256 pk_m;
 #define PK_CMP_GT(a, b) _mm256_cmp_ps(a, b, _CMP_GT_OQ)
 #define PK_CMP_GE(a, b) _mm256_cmp_ps(a, b, _CMP_GE_OQ)
 #define PK_CMP_EQ(a, b) _mm256_cmp_ps(a, b, _CMP_EQ_OQ)
+#define PK_CMP_LE(a, b) _mm256_cmp_ps(a, b, _CMP_LE_OQ)
+#define PK_ANDNOT(a, b) _mm256_andnot_ps(a, b) /* not a, and b (bits) */
+#define PK_SETI(x) _mm256_set1_epi32((int)(x))
+/* (a ^ b) | (a ^ c), bitwise; the lanes whose sign bit is set */
+#define PK_XOR_OR(a, b, c) _mm256_or_ps(_mm256_xor_ps(a, b), _mm256_xor_ps(a, c))
+#define PK_SIGNS(x) ((uint32_t)_mm256_movemask_ps(x))
 #define PK_CMP_NEQ(a, b) _mm256_cmp_ps(a, b, _CMP_NEQ_UQ)
 #define PK_MAND _mm256_and_ps
 #define PK_MOR _mm256_or_ps

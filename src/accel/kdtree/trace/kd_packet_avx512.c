@@ -14,6 +14,9 @@
 #define PK_L 16
 typedef __m512 pk_v;
 typedef __mmask16 pk_m;
+typedef __m512i pk_vi;
+/* lanes a[idx] (idx < 16) or b[idx - 16] */
+#define PK_PERM2(idx, a, b) _mm512_permutex2var_ps(a, idx, b)
 #define PK_LOAD(p) _mm512_load_ps(p)
 #define PK_STORE(p, x) _mm512_store_ps(p, x)
 #define PK_LOADI(p) _mm512_load_si512((const void *)(p))
@@ -31,6 +34,12 @@ typedef __mmask16 pk_m;
 #define PK_CMP_GT(a, b) _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ)
 #define PK_CMP_GE(a, b) _mm512_cmp_ps_mask(a, b, _CMP_GE_OQ)
 #define PK_CMP_EQ(a, b) _mm512_cmp_ps_mask(a, b, _CMP_EQ_OQ)
+#define PK_CMP_LE(a, b) _mm512_cmp_ps_mask(a, b, _CMP_LE_OQ)
+#define PK_ANDNOT(a, b) _mm512_andnot_ps(a, b) /* not a, and b (bits) */
+#define PK_SETI(x) _mm512_set1_epi32((int)(x))
+/* (a ^ b) | (a ^ c), bitwise; the lanes whose sign bit is set */
+#define PK_XOR_OR(a, b, c) _mm512_or_ps(_mm512_xor_ps(a, b), _mm512_xor_ps(a, c))
+#define PK_SIGNS(x) ((uint32_t)_mm512_movepi32_mask(_mm512_castps_si512(x)))
 #define PK_CMP_NEQ(a, b) _mm512_cmp_ps_mask(a, b, _CMP_NEQ_UQ)
 #define PK_MAND(a, b) ((pk_m)((a) & (b)))
 #define PK_MOR(a, b) ((pk_m)((a) | (b)))
