@@ -149,6 +149,7 @@ void rt_dyn_free(tt_context *ctx, rt_dyn *d)
     tt_free(ctx, d->pend_reg);
     tt_free(ctx, d->touched);
     tt_free(ctx, d->touch_list);
+    tt_free(ctx, d->ids);
     memset(d, 0, sizeof *d);
 }
 
@@ -158,6 +159,7 @@ size_t rt_dyn_bytes(const rt_dyn *d)
     return (size_t)d->b.node_cap * (sizeof(rt_node_hdr) + cap * 7 * sizeof(float)) +
            d->id_cap * (6 * sizeof(float) + 2 * sizeof(uint32_t)) +
            (size_t)d->rec_cap * (3 * sizeof(uint32_t) + 2) + d->dirty_cap * sizeof(uint32_t) +
+           d->ids_cap * sizeof(uint32_t) +
            /* the slack layout's room to grow, past what rtc_bytes counts */
            (d->slack ? (size_t)(d->lay_rec_cap - d->lay_rec_used) * d->lay_words * sizeof(float) +
                            (size_t)(d->lay_blk_cap - d->lay_blk_used) * sizeof(tt_tri_block)
@@ -712,22 +714,26 @@ tt_status rt_dyn_sync(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *s
 /* ------------------------------------------ a deformation in one walk */
 
 /* Node n refit from the scene's vertices and written into the layout in
- * the same visit: a leaf's triangles get their boxes (tri_box and the
- * leaf's entries) and their lanes, an interior node its entries from its
- * children and its record's boxes; *out the union of n's entries. One walk
- * instead of four passes (bounds, refit, lanes, records), each of which
- * went over the whole tree or every id once more. */
+ * the same visit: a leaf's triangles get their boxes (tri_box) and their
+ * lanes, an interior node its record's boxes from its children; *out the
+ * union of n's entries. One walk instead of four passes (bounds, refit,
+ * lanes, records), each of which went over the whole tree or every id once
+ * more. The pointer tree's own entry boxes are not written (d->boxes_stale:
+ * the next update that needs them refits them from tri_box first): in a
+ * run of deformations nothing reads them, and they were a third of the
+ * walk's stores (a leaf of ~2 triangles spans six cap-float rows). A
+ * record's slots past the count already hold the free mark (the count does
+ * not change here). */
 static void deform_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
                         float out[6])
 {
     const rt_builder *b = &d->b;
     const uint32_t *ch = rt_node_child(b, n);
-    float *s = rt_node_box(b, n);
-    const int cap = b->cap, cnt = b->hdr[n].count;
+    const int cnt = b->hdr[n].count;
     rt_box_empty(out);
     if (b->hdr[n].level == 0) {
-        /* locals throughout: the stores through tri_box, the entries and
-         * the lanes would otherwise make the compiler reload everything */
+        /* locals throughout: the stores through tri_box and the lanes
+         * would otherwise make the compiler reload everything */
         float lo[3] = {TT_INF, TT_INF, TT_INF}, hi[3] = {-TT_INF, -TT_INF, -TT_INF};
         for (int i = 0; i < cnt; i++) {
             const uint32_t id = ch[i];
@@ -740,7 +746,6 @@ static void deform_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint3
                 hi[k] = rt_max(hi[k], bx[k + 3]);
             }
             memcpy(d->tri_box + 6 * (size_t)id, bx, sizeof bx);
-            for (int k = 0; k < 6; k++) s[k * cap + i] = bx[k];
             const uint32_t g = d->lane_of[id];
             tt_tri_block *bk = (tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
             const uint32_t l = g % TT_TRI_BLOCK_W;
@@ -752,34 +757,36 @@ static void deform_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint3
         memcpy(out + 3, hi, sizeof hi);
         return;
     }
+    float *rec = (float *)tt_rtc_node(c, d->rec_of[n]);
+    const uint32_t S = c->S;
     for (int i = 0; i < cnt; i++) {
         float cb[6];
         deform_node(d, c, scene, ch[i], cb);
         for (int k = 0; k < 3; k++) {
-            s[k * cap + i] = cb[k];
-            s[(k + 3) * cap + i] = cb[k + 3];
+            rec[k * S + (uint32_t)i] = cb[k];
+            rec[(k + 3) * S + (uint32_t)i] = cb[k + 3];
             out[k] = rt_min(out[k], cb[k]);
             out[k + 3] = rt_max(out[k + 3], cb[k + 3]);
         }
     }
-    rtc_set_boxes(c, (float *)tt_rtc_node(c, d->rec_of[n]), s, (uint32_t)cap, (uint32_t)cnt);
 }
 
 int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads)
 {
-    const rt_builder *b = &d->b;
+    rt_builder *b = &d->b;
     const uint32_t root = b->root;
     if (b->hdr[root].level == 0 || d->must_repack) return 0; /* the general path */
     const tt_rtc *c = &t->c;
     const uint32_t *ch = rt_node_child(b, root);
     const int cnt = b->hdr[root].count;
+    float *rec = (float *)tt_rtc_node(c, d->rec_of[root]);
+    const uint32_t S = c->S;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int i = 0; i < cnt; i++) {
         float cb[6];
         deform_node(d, c, scene, ch[i], cb);
-        rt_soa_put(rt_node_box(b, root), b->cap, i, cb);
+        for (int k = 0; k < 6; k++) rec[(uint32_t)k * S + (uint32_t)i] = cb[k];
     }
-    rtc_set_boxes(c, (float *)tt_rtc_node(c, d->rec_of[root]), rt_node_box(b, root),
-                  (uint32_t)b->cap, (uint32_t)cnt);
+    d->boxes_stale = 1;
     return 1;
 }
