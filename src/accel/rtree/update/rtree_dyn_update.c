@@ -54,6 +54,9 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
                         uint64_t since)
 {
     const size_t T = scene->triangle_count;
+    /* deletions leave leaves of one triangle (rt_dyn_delete): the check's
+     * fill minimum follows */
+    t->m = 1;
     double t0 = tt_now();
     tt_status st = rt_dyn_reserve_ids(d, T ? T : 1);
     if (st != TT_OK) return st;
