@@ -545,8 +545,33 @@ static void write_region(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint
                                  cnt);
         d->rec_of[l] = TT_INVALID_ID;
     }
-    lanes_vacate(c, base, cursor, (1u << d->grp_hi[n]) * TT_TRI_BLOCK_W);
+    /* the tail: the rest of the cursor's block lane by lane, then whole
+     * blocks while they still hold a leaf's start (every packing fills the
+     * region's blocks from the first, each starting at lane 0, so the first
+     * block without one ends what the previous packing used) */
+    const uint32_t end = (1u << d->grp_hi[n]) * TT_TRI_BLOCK_W;
+    uint32_t next = (cursor + TT_TRI_BLOCK_W - 1) / TT_TRI_BLOCK_W * TT_TRI_BLOCK_W;
+    lanes_vacate(c, base, cursor, next < end ? next : end);
+    for (; next < end; next += TT_TRI_BLOCK_W) {
+        const uint64_t g = base + next;
+        if (((const tt_tri_block *)c->block)[g / TT_TRI_BLOCK_W].prim[0] == TT_INVALID_ID) break;
+        lanes_vacate(c, base, next, next + TT_TRI_BLOCK_W);
+    }
     d->last_blocks += used;
+}
+
+/* rtc_set_boxes's result (the entries' rows, the free mark past cnt) in
+ * straight row copies the compiler vectorises: the general loop, a branch
+ * per slot, was a seventh of an edits frame's sync. */
+static void set_boxes(const tt_rtc *c, float *rec, const float *box, uint32_t stride,
+                      uint32_t cnt)
+{
+    const uint32_t S = c->S;
+    for (uint32_t k = 0; k < 6; k++) {
+        float *row = rec + k * S;
+        memcpy(row, box + k * stride, cnt * sizeof(float));
+        for (uint32_t i = cnt; i < S; i++) row[i] = TT_INF;
+    }
 }
 
 /* Interior node n's record at its place: header, boxes, references; a
@@ -560,7 +585,7 @@ static void write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32
     d->rec_of[n] = r;
     float *rec = (float *)tt_rtc_node(c, r);
     uint32_t *ref = (uint32_t *)(rec + 6 * c->S);
-    rtc_set_boxes(c, rec, rt_node_box(b, n), (uint32_t)b->cap, cnt);
+    set_boxes(c, rec, rt_node_box(b, n), (uint32_t)b->cap, cnt);
     ref[c->S] = n == b->root ? TT_INVALID_ID : lay_pos(d, b->hdr[n].parent);
     ref[c->S + 1] = cnt | level << 8;
     d->last_records++;
