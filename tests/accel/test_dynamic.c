@@ -187,6 +187,34 @@ static void frames_on_bunny(tt_context *ctx)
         CHECK(got[0] == T && got[39] == T + 39);
         verify(ctx, scene, bf, s, n, "growth", 0);
     }
+    /* deformations and edits in turn: a deformation leaves the kept
+     * pointer tree's boxes to be refit by the next update that edits */
+    for (int r = 1; r <= 3; r++) {
+        const size_t V2 = tt_scene_vertex_count(scene);
+        float *p2 = malloc(V2 * 3 * sizeof(float));
+        memcpy(p2, scene->vertices, V2 * 3 * sizeof(float));
+        for (size_t v = 0; v < V2; v++) p2[3 * v + 1] += 0.003f * diag * sinf((float)(v + r));
+        CHECK_OK(ctx, tt_scene_move_vertices(scene, NULL, p2, V2));
+        verify(ctx, scene, bf, s, n, "deform then edit: deform", r);
+        uint32_t ids[4];
+        size_t m = 0;
+        while (m < 4) {
+            uint32_t id = next_u32() % (uint32_t)tt_scene_triangle_count(scene);
+            int dup = !tt_scene_triangle_alive(scene, id);
+            for (size_t j = 0; j < m && !dup; j++) dup = ids[j] == id;
+            if (!dup) ids[m++] = id;
+        }
+        float tri[4 * 9];
+        for (size_t j = 0; j < 4; j++) {
+            float c[3];
+            for (int a = 0; a < 3; a++) c[a] = lo[a] + next_f() * (hi[a] - lo[a]);
+            random_triangle(tri + 9 * j, c, 0.02f * diag);
+        }
+        CHECK_OK(ctx, tt_scene_remove_triangles(scene, ids, 4));
+        CHECK_OK(ctx, tt_scene_add_triangles(scene, tri, 4, NULL));
+        verify(ctx, scene, bf, s, n, "deform then edit: edit", r);
+        free(p2);
+    }
     free(base);
     free(pos);
     destroy_all(s, n, bf);
