@@ -14,7 +14,9 @@
  * commit time, primary and shadow trace time (the same shadow rays for
  * both engines: those of treetrace's primary hits), treetrace's SAH cost
  * against a fresh build of the same frame (every 10th frame and the last),
- * memory. dynamic.csv has every frame (its columns: /work/notes/dyn-csv.md
+ * memory; the update's process CPU time beside its wall time (the machine
+ * may be shared: CPU time is what an engine spent on all its threads, so
+ * its ratio between the engines survives the load). dynamic.csv has every frame (its columns: /work/notes/dyn-csv.md
  * in the project's notes, and the header below); dynamic.md the table. */
 #include <math.h>
 #include <stdio.h>
@@ -38,6 +40,7 @@ typedef struct dyn_row {
     double refit, removed, inserted; /* < 0: not treetrace */
     const char *layout;
     double compactions; /* the slack layout's, so far */
+    double update_cpu_ms; /* process CPU time of the update / commit */
 } dyn_row;
 
 static void num(FILE *f, double v, const char *fmt)
@@ -63,12 +66,14 @@ static void write_row(FILE *f, const dyn_row *r)
     num(f, r->refit, "%.0f");
     num(f, r->removed, "%.0f");
     num(f, r->inserted, "%.0f");
-    fprintf(f, ",%s\n", r->layout ? r->layout : "");
+    fprintf(f, ",%s", r->layout ? r->layout : "");
+    num(f, r->update_cpu_ms, "%.4f");
+    fputc('\n', f);
 }
 
 static const char csv_header[] =
     "scene,mode,engine,frame,triangles,update_ms,primary_ms,shadow_ms,trace_ms,sah,fresh_sah,"
-    "sah_ratio,fresh_trace_ms,trace_ratio,memory_bytes,refit,removed,inserted,layout\n";
+    "sah_ratio,fresh_trace_ms,trace_ratio,memory_bytes,refit,removed,inserted,layout,update_cpu_ms\n";
 
 /* What the report keeps of a sequence: means over the frames, the last
  * frame's drift. */
@@ -76,6 +81,7 @@ typedef struct dyn_sum {
     const char *scene, *mode, *engine;
     int frames;
     double update_ms, trace_ms, last_trace_ms, last_fresh_trace_ms, last_sah_ratio, memory;
+    double update_cpu_ms;
 } dyn_sum;
 
 typedef struct dyn_run {
@@ -110,11 +116,20 @@ static void sum_add(dyn_sum *s, const dyn_row *row)
     if (!s || row->frame == 0) return;
     s->frames++;
     s->update_ms += row->update_ms;
+    s->update_cpu_ms += row->update_cpu_ms > 0 ? row->update_cpu_ms : 0.0;
     s->trace_ms += row->primary_ms + row->shadow_ms;
     s->last_trace_ms = row->primary_ms + row->shadow_ms;
     if (row->fresh_sah > 0 && row->sah >= 0) s->last_sah_ratio = row->sah / row->fresh_sah;
     if (row->fresh_trace_ms > 0) s->last_fresh_trace_ms = row->fresh_trace_ms;
     s->memory = row->memory;
+}
+
+/* This process's CPU time (all threads), ms. */
+static double cpu_ms(void)
+{
+    struct timespec t;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) != 0) return 0.0;
+    return 1e3 * (double)t.tv_sec + 1e-6 * (double)t.tv_nsec;
 }
 
 /* The frame's rays: primary W x W, and the shadow rays of treetrace's hits. */
@@ -297,7 +312,7 @@ static int run_sequence(dyn_run *r, const bench_scene *bs, dyn_mode mode, dyn_ra
     unsigned seed = 1;
     double compactions = 0;
     for (int f = 0; f <= frames; f++) {
-        double upd_ms = build_ms;
+        double upd_ms = build_ms, upd_cpu = -1.0;
         if (f > 0) {
             if (mode == GROWTH) {
                 const size_t a0 = T0 * (size_t)(f - 1) / (size_t)pieces;
@@ -309,13 +324,15 @@ static int run_sequence(dyn_run *r, const bench_scene *bs, dyn_mode mode, dyn_ra
                 st = edit_frame(mode, sc, f, base, base_count, diag, pos, ids, tri, &seed);
             }
             if (st != TT_OK) goto fail_tt;
+            const double c0 = cpu_ms();
             t0 = bench_now();
             st = tt_accel_update(a);
             upd_ms = 1e3 * (bench_now() - t0);
+            upd_cpu = cpu_ms() - c0;
             if (st != TT_OK) goto fail_tt;
         }
         dyn_row row = {bs->name, mode_name[mode], "treetrace", f, tt_scene_live_triangle_count(sc),
-                       upd_ms, 0, 0, -1, -1, -1, 0, -1, -1, -1, NULL, 0};
+                       upd_ms, 0, 0, -1, -1, -1, 0, -1, -1, -1, NULL, 0, upd_cpu};
         st = trace_tt(a, sc, R, &row.primary_ms, &row.shadow_ms);
         if (st != TT_OK) goto fail_tt;
         row.sah = sah_of(a);
@@ -341,10 +358,12 @@ static int run_sequence(dyn_run *r, const bench_scene *bs, dyn_mode mode, dyn_ra
             if (!emb[q]) continue;
             dyn_row er = {bs->name, mode_name[mode], emb_name[q], f,
                           tt_scene_live_triangle_count(sc), emb_first[q], 0, 0, -1, -1, -1, 0,
-                          -1, -1, -1, NULL, 0};
+                          -1, -1, -1, NULL, 0, -1.0};
             if (f > 0) {
                 if (mode != GROWTH) bench_emb_set(emb[q], emb_buf, tt_scene_triangle_count(sc));
+                const double c0 = cpu_ms();
                 er.update_ms = 1e3 * bench_emb_commit(emb[q]);
+                er.update_cpu_ms = cpu_ms() - c0;
             } else {
                 er.update_ms = 1e3 * emb_first[q];
             }
@@ -384,28 +403,41 @@ static void write_report(dyn_run *r, const char *path)
                "%d frames a sequence (growth: at most 50 objects), %ux%u primary rays + their "
                "shadow rays, %d threads; treetrace: the default R-tree (SAH, compact layout) "
                "updated in place by tt_accel_update; Embree 3 with RTC_SCENE_FLAG_DYNAMIC at "
-               "each build quality, timed around rtcCommitScene. Means over the frames; "
+               "each build quality, timed around rtcCommitScene (wall, and the process's CPU time on all "
+               "threads, which a shared machine disturbs less). Means over the frames; "
                "`last` is the last frame, `fresh` a new default build of that frame. Every "
                "frame: dynamic.csv.\n\n",
             r->frames, DYN_W, DYN_W, r->threads);
     fprintf(f, "| scene | sequence | engine | update / commit ms | vs Embree LOW | vs Embree "
-               "REFIT | trace ms | last trace / fresh | last SAH / fresh | memory MB |\n"
-               "|---|---|---|---|---|---|---|---|---|---|\n");
+               "REFIT | CPU ms | CPU vs LOW | CPU vs REFIT | trace ms | last trace / fresh | "
+               "last SAH / fresh | memory MB |\n"
+               "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (size_t i = 0; i < r->nsums; i++) {
         const dyn_sum *s = &r->sums[i];
         if (!s->frames) continue;
-        double low = -1, refit = -1;
+        double low = -1, refit = -1, low_cpu = -1, refit_cpu = -1;
         for (size_t j = 0; j < r->nsums; j++) {
             const dyn_sum *e = &r->sums[j];
             if (strcmp(e->scene, s->scene) || strcmp(e->mode, s->mode) || !e->frames) continue;
-            if (!strcmp(e->engine, "embree-low")) low = e->update_ms / e->frames;
-            if (!strcmp(e->engine, "embree-refit")) refit = e->update_ms / e->frames;
+            if (!strcmp(e->engine, "embree-low")) {
+                low = e->update_ms / e->frames;
+                low_cpu = e->update_cpu_ms / e->frames;
+            }
+            if (!strcmp(e->engine, "embree-refit")) {
+                refit = e->update_ms / e->frames;
+                refit_cpu = e->update_cpu_ms / e->frames;
+            }
         }
         const double upd = s->update_ms / s->frames;
         fprintf(f, "| %s | %s | %s | %.3f | ", s->scene, s->mode, s->engine, upd);
         if (low > 0) fprintf(f, "%.2fx", upd / low);
         fprintf(f, " | ");
         if (refit > 0) fprintf(f, "%.2fx", upd / refit);
+        const double cpu = s->update_cpu_ms / s->frames;
+        fprintf(f, " | %.3f | ", cpu);
+        if (low_cpu > 0) fprintf(f, "%.2fx", cpu / low_cpu);
+        fprintf(f, " | ");
+        if (refit_cpu > 0) fprintf(f, "%.2fx", cpu / refit_cpu);
         fprintf(f, " | %.2f | ", s->trace_ms / s->frames);
         if (s->last_fresh_trace_ms > 0) fprintf(f, "%.2fx", s->last_trace_ms / s->last_fresh_trace_ms);
         fprintf(f, " | ");

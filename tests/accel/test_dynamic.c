@@ -7,7 +7,9 @@
  * bad ids and out-of-range edits (an error, nothing changed), stale
  * structures (TT_ERR_STALE) and a trace in flight (TT_ERR_BUSY). */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "compare.h"
@@ -185,6 +187,34 @@ static void frames_on_bunny(tt_context *ctx)
         CHECK(got[0] == T && got[39] == T + 39);
         verify(ctx, scene, bf, s, n, "growth", 0);
     }
+    /* deformations and edits in turn: a deformation leaves the kept
+     * pointer tree's boxes to be refit by the next update that edits */
+    for (int r = 1; r <= 3; r++) {
+        const size_t V2 = tt_scene_vertex_count(scene);
+        float *p2 = malloc(V2 * 3 * sizeof(float));
+        memcpy(p2, scene->vertices, V2 * 3 * sizeof(float));
+        for (size_t v = 0; v < V2; v++) p2[3 * v + 1] += 0.003f * diag * sinf((float)(v + r));
+        CHECK_OK(ctx, tt_scene_move_vertices(scene, NULL, p2, V2));
+        verify(ctx, scene, bf, s, n, "deform then edit: deform", r);
+        uint32_t ids[4];
+        size_t m = 0;
+        while (m < 4) {
+            uint32_t id = next_u32() % (uint32_t)tt_scene_triangle_count(scene);
+            int dup = !tt_scene_triangle_alive(scene, id);
+            for (size_t j = 0; j < m && !dup; j++) dup = ids[j] == id;
+            if (!dup) ids[m++] = id;
+        }
+        float tri[4 * 9];
+        for (size_t j = 0; j < 4; j++) {
+            float c[3];
+            for (int a = 0; a < 3; a++) c[a] = lo[a] + next_f() * (hi[a] - lo[a]);
+            random_triangle(tri + 9 * j, c, 0.02f * diag);
+        }
+        CHECK_OK(ctx, tt_scene_remove_triangles(scene, ids, 4));
+        CHECK_OK(ctx, tt_scene_add_triangles(scene, tri, 4, NULL));
+        verify(ctx, scene, bf, s, n, "deform then edit: edit", r);
+        free(p2);
+    }
     free(base);
     free(pos);
     destroy_all(s, n, bf);
@@ -313,6 +343,21 @@ static void edits_in_place(tt_context *ctx)
                   comp, frames);
         CHECK_MSG(recs > 0 && !(recs >= nodes), "%s: the last frame wrote %g records of %g",
                   s[i].label, recs, nodes);
+    }
+    /* an updated tree (leaves of one triangle after lazy deletions) saved
+     * and loaded: it passes the check and traces as before */
+    {
+        char path[256];
+        snprintf(path, sizeof path, "/tmp/tt_dynamic_%d.tta", (int)getpid());
+        tt_accel *loaded = NULL;
+        CHECK_OK(ctx, tt_accel_save(s[0].a, path, "bunny"));
+        CHECK_OK(ctx, tt_accel_load(ctx, scene, path, TT_ISA_AUTO, &loaded));
+        if (loaded) {
+            CHECK_OK(ctx, tt_accel_check(loaded));
+            CHECK(tt_test_compare_random(scene, loaded, bf, 400, 99u) == 0);
+            tt_accel_destroy(loaded);
+        }
+        remove(path);
     }
     /* everything removed and back, through the in-place path */
     uint32_t *all = malloc(T * sizeof *all);

@@ -15,7 +15,8 @@ tt_status rtree_io_save(const tt_accel *a, tt_af_writer *w)
 {
     const rt_tree *t = a->impl;
     double p[P_COUNT];
-    p[P_M_FILL] = t->m;
+    /* the fill the check enforces: 1 once updates deleted lazily */
+    p[P_M_FILL] = t->layout == TT_RTREE_LAYOUT_COMPACT ? t->compact.m : t->m;
     p[P_TRAVERSAL] = t->traversal;
     p[P_LAYOUT] = t->layout;
     p[P_REAL_NODES] = t->real_nodes;
@@ -35,7 +36,7 @@ tt_status rtree_io_load(tt_accel *a, const tt_af_file *f)
     tt_status st = tt_af_get_n(a->ctx, f, TT_AF_SEC_PARAMS, 8, P_COUNT, (const void **)&p);
     if (st != TT_OK) return st;
     if (p[P_LAYOUT] != (double)o->layout || p[P_TRAVERSAL] != (double)o->traversal ||
-        !(p[P_M_FILL] >= 2 && p[P_M_FILL] <= 8) || !(p[P_REAL_NODES] >= 0 && p[P_REAL_NODES] < 4e9))
+        !(p[P_M_FILL] >= 1 && p[P_M_FILL] <= 8) || !(p[P_REAL_NODES] >= 0 && p[P_REAL_NODES] < 4e9))
         return tt_af_bad(a->ctx, f, "the parameters disagree with the options");
     for (int k = 0; k < 6; k++) /* floats, converted below */
         if (!(p[P_ROOT_BOX + k] >= -3.4e38 && p[P_ROOT_BOX + k] <= 3.4e38) &&

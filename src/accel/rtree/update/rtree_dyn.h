@@ -83,6 +83,11 @@ typedef struct rt_dyn {
     uint64_t compactions, last_records, last_blocks;
     double last_tree_s, last_layout_s;
     int must_repack; /* the layout's boxes predate the tree's (first update) */
+    /* the pointer tree's entry boxes predate the last deformation (which
+     * wrote only tri_box and the layout): refit from tri_box before use */
+    int boxes_stale;
+    uint32_t *ids; /* an update's changed ids */
+    size_t ids_cap;
 } rt_dyn;
 
 /* The pointer tree and the maps from the compact layout t (built on the
@@ -132,7 +137,8 @@ void rt_dyn_touch(void *d, uint32_t n);
 
 /* A pure deformation (every live triangle in the tree, none added or
  * removed): boxes refit from the vertices, lanes and records written, in
- * one walk of the tree. Returns 0 (nothing done) where the general path
+ * one walk of the tree; the pointer tree's entry boxes are left stale
+ * (boxes_stale). Returns 0 (nothing done) where the general path
  * must run: a lone leaf as root, or a layout still to be rewritten. */
 int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads);
 

@@ -6,6 +6,9 @@
  * node record touches only them. */
 #include <math.h>
 #include <string.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "accel/rtree/rtree_box.h"
 #include "accel/rtree/update/rtree_dyn.h"
@@ -66,12 +69,14 @@ tt_status rt_dyn_from_compact(rt_dyn *d, tt_context *ctx, const tt_rtree_options
     memset(d, 0, sizeof *d);
     const tt_rtc *c = &t->c;
     /* Insertions follow the tree's strategy when it was built by insertion;
-     * a bulk-loaded tree (no strategy of its own) takes the RR*-tree's
-     * choice: on the bunny's 1%-edits frames it kept the SAH cost lower
-     * (28.7 against 30.1 for R*-surface after 10 frames) in 0.7x the CPU
-     * time). */
+     * a bulk-loaded tree (no strategy of its own) takes the least surface
+     * enlargement (TT_RTREE_MIN_SURFACE, the builder's SIMD path): on the
+     * bunny's 1%-edits frames it costs 9.2 M instructions a frame against
+     * 15.4 M for the RR*-tree's choice (whose overlap sums were half of
+     * the frame), and after 100 frames its SAH cost is lower (68.1 against
+     * 76.1; fresh build 19.8); after 10 frames 29.9 against 28.6. */
     tt_rtree_options oo = *o;
-    if (o->build != TT_RTREE_BUILD_INSERT) oo.strategy = TT_RTREE_RRSTAR;
+    if (o->build != TT_RTREE_BUILD_INSERT) oo.strategy = TT_RTREE_MIN_SURFACE;
     tt_status st = rt_builder_init(&d->b, ctx, &oo, NULL, (uint32_t)scene->triangle_count);
     if (st != TT_OK) return st;
     d->b.free_count = 0;
@@ -147,6 +152,7 @@ void rt_dyn_free(tt_context *ctx, rt_dyn *d)
     tt_free(ctx, d->pend_reg);
     tt_free(ctx, d->touched);
     tt_free(ctx, d->touch_list);
+    tt_free(ctx, d->ids);
     memset(d, 0, sizeof *d);
 }
 
@@ -156,6 +162,7 @@ size_t rt_dyn_bytes(const rt_dyn *d)
     return (size_t)d->b.node_cap * (sizeof(rt_node_hdr) + cap * 7 * sizeof(float)) +
            d->id_cap * (6 * sizeof(float) + 2 * sizeof(uint32_t)) +
            (size_t)d->rec_cap * (3 * sizeof(uint32_t) + 2) + d->dirty_cap * sizeof(uint32_t) +
+           d->ids_cap * sizeof(uint32_t) +
            /* the slack layout's room to grow, past what rtc_bytes counts */
            (d->slack ? (size_t)(d->lay_rec_cap - d->lay_rec_used) * d->lay_words * sizeof(float) +
                            (size_t)(d->lay_blk_cap - d->lay_blk_used) * sizeof(tt_tri_block)
@@ -489,8 +496,24 @@ static uint32_t lay_pos(const rt_dyn *d, uint32_t n)
     return n == b->root ? 0 : d->grp_of[b->hdr[n].parent] + b->hdr[n].slot;
 }
 
+/* Lanes [from, to) of the region at `base` unused: those still holding a
+ * triangle cleared (the others already are). */
+static void lanes_vacate(const tt_rtc *c, uint64_t base, uint32_t from, uint32_t to)
+{
+    for (uint32_t i = from; i < to; i++) {
+        const uint64_t g = base + i;
+        const tt_tri_block *bk = (const tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
+        if (bk->prim[g % TT_TRI_BLOCK_W] != TT_INVALID_ID) lanes_clear(c, g, 1);
+    }
+}
+
 /* Level-1 node n's leaves into its region, packed; the rest of the region
- * unused lanes. Returns nothing: the references go into ref. */
+ * unused lanes. A leaf not touched since the last sync whose lanes already
+ * hold its triangles where the packing puts it is left as it is (its
+ * triangles did not move: a moved one marks its leaf): on the bunny's
+ * 1%-edits frames most leaves of a touched region are such, and writing
+ * them again (with the whole region cleared first) was a third of the
+ * sync. The references go into ref. */
 static void write_region(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
                          uint32_t *ref)
 {
@@ -499,10 +522,18 @@ static void write_region(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint
     const uint32_t used = pack_leaves(b, n, first), blk = d->grp_of[n];
     const uint64_t base = (uint64_t)blk * TT_TRI_BLOCK_W;
     const uint32_t *ch = rt_node_child(b, n);
-    lanes_clear(c, base, (uint64_t)(1u << d->grp_hi[n]) * TT_TRI_BLOCK_W);
+    uint32_t cursor = 0; /* lanes before it are placed (first fit ascends) */
     for (int i = 0; i < b->hdr[n].count; i++) {
         const uint32_t l = ch[i], cnt = b->hdr[l].count, *id = rt_node_child(b, l);
-        for (uint32_t k = 0; k < cnt; k++) {
+        lanes_vacate(c, base, cursor, first[i]);
+        cursor = first[i] + cnt;
+        int keep = l < d->touched_cap && !d->touched[l];
+        for (uint32_t k = 0; k < cnt && keep; k++) {
+            const uint64_t g = base + first[i] + k;
+            keep = ((const tt_tri_block *)c->block)[g / TT_TRI_BLOCK_W].prim[g % TT_TRI_BLOCK_W] ==
+                   id[k];
+        }
+        for (uint32_t k = 0; k < cnt && !keep; k++) {
             const uint64_t g = base + first[i] + k;
             tt_tri_block *bk = (tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
             const uint32_t lane = (uint32_t)(g % TT_TRI_BLOCK_W);
@@ -517,7 +548,33 @@ static void write_region(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint
                                  cnt);
         d->rec_of[l] = TT_INVALID_ID;
     }
+    /* the tail: the rest of the cursor's block lane by lane, then whole
+     * blocks while they still hold a leaf's start (every packing fills the
+     * region's blocks from the first, each starting at lane 0, so the first
+     * block without one ends what the previous packing used) */
+    const uint32_t end = (1u << d->grp_hi[n]) * TT_TRI_BLOCK_W;
+    uint32_t next = (cursor + TT_TRI_BLOCK_W - 1) / TT_TRI_BLOCK_W * TT_TRI_BLOCK_W;
+    lanes_vacate(c, base, cursor, next < end ? next : end);
+    for (; next < end; next += TT_TRI_BLOCK_W) {
+        const uint64_t g = base + next;
+        if (((const tt_tri_block *)c->block)[g / TT_TRI_BLOCK_W].prim[0] == TT_INVALID_ID) break;
+        lanes_vacate(c, base, next, next + TT_TRI_BLOCK_W);
+    }
     d->last_blocks += used;
+}
+
+/* rtc_set_boxes's result (the entries' rows, the free mark past cnt) in
+ * straight row copies the compiler vectorises: the general loop, a branch
+ * per slot, was a seventh of an edits frame's sync. */
+static void set_boxes(const tt_rtc *c, float *rec, const float *box, uint32_t stride,
+                      uint32_t cnt)
+{
+    const uint32_t S = c->S;
+    for (uint32_t k = 0; k < 6; k++) {
+        float *row = rec + k * S;
+        memcpy(row, box + k * stride, cnt * sizeof(float));
+        for (uint32_t i = cnt; i < S; i++) row[i] = TT_INF;
+    }
 }
 
 /* Interior node n's record at its place: header, boxes, references; a
@@ -531,7 +588,7 @@ static void write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32
     d->rec_of[n] = r;
     float *rec = (float *)tt_rtc_node(c, r);
     uint32_t *ref = (uint32_t *)(rec + 6 * c->S);
-    rtc_set_boxes(c, rec, rt_node_box(b, n), (uint32_t)b->cap, cnt);
+    set_boxes(c, rec, rt_node_box(b, n), (uint32_t)b->cap, cnt);
     ref[c->S] = n == b->root ? TT_INVALID_ID : lay_pos(d, b->hdr[n].parent);
     ref[c->S + 1] = cnt | level << 8;
     d->last_records++;
@@ -684,75 +741,128 @@ tt_status rt_dyn_sync(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *s
 
 /* ------------------------------------------ a deformation in one walk */
 
-/* Node n refit from the scene's vertices and written into the layout in
- * the same visit: a leaf's triangles get their boxes (tri_box and the
- * leaf's entries) and their lanes, an interior node its entries from its
- * children and its record's boxes; *out the union of n's entries. One walk
- * instead of four passes (bounds, refit, lanes, records), each of which
- * went over the whole tree or every id once more. */
+/* Leaf n's triangles: boxes into tri_box, vertices into their lanes;
+ * *out their union. The degenerate test (a call) first for all, so that
+ * the bounds loop keeps its union in registers; with SSE2 a triangle's
+ * three corners are three vector loads (same min / max per coordinate, so
+ * the same boxes). */
+static inline void deform_leaf(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
+                               float out[6])
+{
+    const rt_builder *b = &d->b;
+    const uint32_t *ch = rt_node_child(b, n);
+    const int cnt = b->hdr[n].count;
+    uint32_t dead = 0; /* bit i: triangle i is stored as NaN (as rtc_pack writes it) */
+    for (int i = 0; i < cnt; i++) {
+        const float *v = scene->tri + 9 * (size_t)ch[i];
+        dead |= (uint32_t)(tt_tri_is_degenerate(v, v + 3, v + 6) != 0) << i;
+    }
+#if defined(__SSE2__)
+    __m128 lo = _mm_set1_ps(TT_INF), hi = _mm_set1_ps(-TT_INF);
+    for (int i = 0; i < cnt; i++) {
+        const uint32_t id = ch[i];
+        const float *src = scene->tri + 9 * (size_t)id;
+        float v[12];
+        memcpy(v, src, 9 * sizeof(float));
+        v[9] = v[10] = v[11] = 0.0f;
+        const __m128 p0 = _mm_loadu_ps(v), p1 = _mm_loadu_ps(v + 3), p2 = _mm_loadu_ps(v + 6);
+        const __m128 mn = _mm_min_ps(_mm_min_ps(p0, p1), p2);
+        const __m128 mx = _mm_max_ps(_mm_max_ps(p0, p1), p2);
+        lo = _mm_min_ps(lo, mn);
+        hi = _mm_max_ps(hi, mx);
+        float bx[8];
+        _mm_storeu_ps(bx, mn);
+        _mm_storeu_ps(bx + 3, mx);
+        memcpy(d->tri_box + 6 * (size_t)id, bx, 6 * sizeof(float));
+        const uint32_t g = d->lane_of[id];
+        tt_tri_block *bk = (tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
+        const uint32_t l = g % TT_TRI_BLOCK_W;
+        if (dead >> i & 1u)
+            for (int q = 0; q < 9; q++) bk->v[q][l] = NAN;
+        else
+            for (int q = 0; q < 9; q++) bk->v[q][l] = v[q];
+    }
+    float o[8];
+    _mm_storeu_ps(o, lo);
+    _mm_storeu_ps(o + 4, hi);
+    memcpy(out, o, 3 * sizeof(float));
+    memcpy(out + 3, o + 4, 3 * sizeof(float));
+#else
+    float lo[3] = {TT_INF, TT_INF, TT_INF}, hi[3] = {-TT_INF, -TT_INF, -TT_INF};
+    for (int i = 0; i < cnt; i++) {
+        const uint32_t id = ch[i];
+        float v[9], bx[6];
+        memcpy(v, scene->tri + 9 * (size_t)id, sizeof v);
+        for (int k = 0; k < 3; k++) {
+            bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
+            bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
+            lo[k] = rt_min(lo[k], bx[k]);
+            hi[k] = rt_max(hi[k], bx[k + 3]);
+        }
+        memcpy(d->tri_box + 6 * (size_t)id, bx, sizeof bx);
+        const uint32_t g = d->lane_of[id];
+        tt_tri_block *bk = (tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
+        const uint32_t l = g % TT_TRI_BLOCK_W;
+        for (int q = 0; q < 9; q++) bk->v[q][l] = dead >> i & 1u ? NAN : v[q];
+    }
+    memcpy(out, lo, sizeof lo);
+    memcpy(out + 3, hi, sizeof hi);
+#endif
+}
+
+/* Interior node n refit from the scene's vertices and written into the
+ * layout in the same visit: its leaves' triangles get their boxes
+ * (tri_box) and lanes, its record the boxes of its children; *out the
+ * union of n's entries. One walk instead of four passes (bounds, refit,
+ * lanes, records), each of which went over the whole tree or every id
+ * once more. The pointer tree's own entry boxes are not written
+ * (d->boxes_stale: the next update that needs them refits them from
+ * tri_box first): in a run of deformations nothing reads them, and they
+ * were a third of the walk's stores (a leaf of ~2 triangles spans six
+ * cap-float rows). A record's slots past the count already hold the free
+ * mark (the count does not change here). Leaves are visited inline from
+ * their parent (no call a leaf), the union kept in locals. */
 static void deform_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
                         float out[6])
 {
     const rt_builder *b = &d->b;
     const uint32_t *ch = rt_node_child(b, n);
-    float *s = rt_node_box(b, n);
-    const int cap = b->cap, cnt = b->hdr[n].count;
-    rt_box_empty(out);
-    if (b->hdr[n].level == 0) {
-        /* locals throughout: the stores through tri_box, the entries and
-         * the lanes would otherwise make the compiler reload everything */
-        float lo[3] = {TT_INF, TT_INF, TT_INF}, hi[3] = {-TT_INF, -TT_INF, -TT_INF};
-        for (int i = 0; i < cnt; i++) {
-            const uint32_t id = ch[i];
-            float v[9], bx[6];
-            memcpy(v, scene->tri + 9 * (size_t)id, sizeof v);
-            for (int k = 0; k < 3; k++) {
-                bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
-                bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
-                lo[k] = rt_min(lo[k], bx[k]);
-                hi[k] = rt_max(hi[k], bx[k + 3]);
-            }
-            memcpy(d->tri_box + 6 * (size_t)id, bx, sizeof bx);
-            for (int k = 0; k < 6; k++) s[k * cap + i] = bx[k];
-            const uint32_t g = d->lane_of[id];
-            tt_tri_block *bk = (tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
-            const uint32_t l = g % TT_TRI_BLOCK_W;
-            if (tt_tri_is_degenerate(v, v + 3, v + 6)) /* as rtc_pack writes it */
-                for (int q = 0; q < 9; q++) v[q] = NAN;
-            for (int q = 0; q < 9; q++) bk->v[q][l] = v[q];
-        }
-        memcpy(out, lo, sizeof lo);
-        memcpy(out + 3, hi, sizeof hi);
-        return;
-    }
+    const int cnt = b->hdr[n].count, leaves = b->hdr[n].level == 1;
+    float *rec = (float *)tt_rtc_node(c, d->rec_of[n]);
+    const uint32_t S = c->S;
+    float lo[3] = {TT_INF, TT_INF, TT_INF}, hi[3] = {-TT_INF, -TT_INF, -TT_INF};
     for (int i = 0; i < cnt; i++) {
         float cb[6];
-        deform_node(d, c, scene, ch[i], cb);
+        if (leaves) deform_leaf(d, c, scene, ch[i], cb);
+        else deform_node(d, c, scene, ch[i], cb);
         for (int k = 0; k < 3; k++) {
-            s[k * cap + i] = cb[k];
-            s[(k + 3) * cap + i] = cb[k + 3];
-            out[k] = rt_min(out[k], cb[k]);
-            out[k + 3] = rt_max(out[k + 3], cb[k + 3]);
+            rec[k * S + (uint32_t)i] = cb[k];
+            rec[(k + 3) * S + (uint32_t)i] = cb[k + 3];
+            lo[k] = rt_min(lo[k], cb[k]);
+            hi[k] = rt_max(hi[k], cb[k + 3]);
         }
     }
-    rtc_set_boxes(c, (float *)tt_rtc_node(c, d->rec_of[n]), s, (uint32_t)cap, (uint32_t)cnt);
+    memcpy(out, lo, sizeof lo);
+    memcpy(out + 3, hi, sizeof hi);
 }
 
 int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads)
 {
-    const rt_builder *b = &d->b;
+    rt_builder *b = &d->b;
     const uint32_t root = b->root;
     if (b->hdr[root].level == 0 || d->must_repack) return 0; /* the general path */
     const tt_rtc *c = &t->c;
     const uint32_t *ch = rt_node_child(b, root);
     const int cnt = b->hdr[root].count;
+    float *rec = (float *)tt_rtc_node(c, d->rec_of[root]);
+    const uint32_t S = c->S;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int i = 0; i < cnt; i++) {
         float cb[6];
-        deform_node(d, c, scene, ch[i], cb);
-        rt_soa_put(rt_node_box(b, root), b->cap, i, cb);
+        if (b->hdr[root].level == 1) deform_leaf(d, c, scene, ch[i], cb);
+        else deform_node(d, c, scene, ch[i], cb);
+        for (int k = 0; k < 6; k++) rec[(uint32_t)k * S + (uint32_t)i] = cb[k];
     }
-    rtc_set_boxes(c, (float *)tt_rtc_node(c, d->rec_of[root]), rt_node_box(b, root),
-                  (uint32_t)b->cap, (uint32_t)cnt);
+    d->boxes_stale = 1;
     return 1;
 }

@@ -54,25 +54,30 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
                         uint64_t since)
 {
     const size_t T = scene->triangle_count;
+    /* deletions leave leaves of one triangle (rt_dyn_delete): the check's
+     * fill minimum follows */
+    t->m = 1;
     double t0 = tt_now();
     tt_status st = rt_dyn_reserve_ids(d, T ? T : 1);
     if (st != TT_OK) return st;
-    /* the changed ids, moved ones first in `ids` */
+    /* the changed ids, in one pass (into d's buffer, kept between updates:
+     * a deformation lists every id) */
     size_t changed = 0, moved = 0;
     /* a tree packed after removals holds the removed slots (as points):
      * the first update takes them out as if just removed */
     const int sweep = d->must_repack;
-    for (size_t id = 0; id < T; id++)
-        changed += scene->stamp[id] > since || (sweep && d->leaf_of[id] != TT_INVALID_ID &&
-                                               tt_scene_is_dead(scene, id));
-    uint32_t *ids = tt_alloc_array(ctx, changed ? changed : 1, sizeof *ids);
-    if (!ids) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
-    size_t k = 0;
+    if (T > d->ids_cap) {
+        uint32_t *buf = tt_realloc_array(ctx, d->ids, T, sizeof *buf);
+        if (!buf) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
+        d->ids = buf;
+        d->ids_cap = T;
+    }
+    uint32_t *ids = d->ids;
     for (size_t id = 0; id < T; id++) {
         if (scene->stamp[id] <= since &&
             !(sweep && d->leaf_of[id] != TT_INVALID_ID && tt_scene_is_dead(scene, id)))
             continue;
-        ids[k++] = (uint32_t)id;
+        ids[changed++] = (uint32_t)id;
         moved += !tt_scene_is_dead(scene, id) && d->leaf_of[id] != TT_INVALID_ID;
     }
     const size_t live = tt_scene_live_triangle_count(scene);
@@ -83,7 +88,6 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
                          : tt_context_threads(ctx) > 0 ? tt_context_threads(ctx)
                                                        : omp_get_max_threads();
     if (deform && moved == changed && rt_dyn_deform(d, t, scene, threads0)) {
-        tt_free(ctx, ids);
         d->last_refit = moved;
         d->last_removed = d->last_inserted = d->last_moved_far = 0;
         d->last_tree_s = tt_now() - t0;
@@ -92,6 +96,12 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
         return TT_OK;
     }
 
+    /* the pointer tree's boxes after deformations: from tri_box (as of
+     * the last update), before anything reads or grows them */
+    if (d->boxes_stale) {
+        rt_dyn_refit_all(d);
+        d->boxes_stale = 0;
+    }
     /* 1. refits: new boxes into the leaves, marked for the climb */
     uint8_t *again = tt_calloc(ctx, changed ? changed : 1, 1); /* delete + insert */
     if (!again) st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
@@ -171,7 +181,6 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
     for (uint32_t j = 0; j < d->dirty_count; j++) d->dirty[d->dirty_list[j]] = 0;
     d->dirty_count = 0;
     tt_free(ctx, again);
-    tt_free(ctx, ids);
     d->last_refit = refit;
     d->last_removed = removed;
     d->last_inserted = inserted;
