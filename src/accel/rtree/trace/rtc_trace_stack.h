@@ -50,6 +50,26 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
         TT_COUNT(stats, interior, 1);
         TT_COUNT(stats, boxes, tt_rtc_count(t, rec));
         if (mask) {
+            /* One or two hit children of an interior node, the common
+             * cases, without the sort's loops (their exits are branches
+             * the predictor misses when the count varies); the same order
+             * as the sort below (equal distances keep lane order). */
+            if (level > 1 && !(mask & (mask - 1))) {
+                n = child[tt_rt_ctz(mask)];
+                level--;
+                continue;
+            }
+            if (level > 1 && !((mask & (mask - 1)) & ((mask & (mask - 1)) - 1))) {
+                const uint32_t i0 = tt_rt_ctz(mask), i1 = tt_rt_ctz(mask & (mask - 1));
+                const float t0 = tb[i0], t1 = tb[i1];
+                const int swap = t1 < t0;
+                stack_node[sp] = child[swap ? i0 : i1];
+                stack_l[sp] = (uint8_t)(level - 1);
+                stack_t[sp++] = swap ? t0 : t1;
+                n = child[swap ? i1 : i0];
+                level--;
+                continue;
+            }
             /* the hit children in ascending entry distance */
             uint32_t ord[TT_RT_MAX_M];
             float ot[TT_RT_MAX_M];
