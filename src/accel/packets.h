@@ -142,7 +142,7 @@ static inline void tt_wray_finish_rows(tt_wray *w, const float *dx, const float 
         r[1][i] = 1.0f / y;
         r[2][i] = 1.0f / z;
         const float ax = fabsf(x), ay = fabsf(y), az = fabsf(z);
-        const int kz = (ax >= ay) & (ax >= az) ? 0 : (ay >= az ? 1 : 2);
+        const int kz = ((ax >= ay) & (ax >= az)) ? 0 : (ay >= az ? 1 : 2);
         const int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
         const float dkz = kz == 0 ? x : kz == 1 ? y : z;
         /* the swap that keeps the winding */
