@@ -210,6 +210,7 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
         tt_hit ph[TT_PACKET_MAX];
         uint8_t pocc[TT_PACKET_MAX];
         size_t pidx[TT_PACKET_MAX];
+        float pdir[3][TT_PACKET_MAX];
 #pragma omp for schedule(dynamic)
         for (long c = 0; c < p.items; c++) {
             int packet = use_packets;
@@ -248,7 +249,15 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                     tt_status rs = check_ray(org, dir, tmin, tmax);
                     if (ray_status) ray_status[i] = rs;
                     if (rs == TT_OK) {
-                        tt_wray_init(&pw[np], org, dir, tmin, tmax);
+                        /* tt_wray_init, its divisions for the whole
+                         * packet after the loop (tt_wray_finish_rows) */
+                        tt_wray *w = &pw[np];
+                        for (int k = 0; k < 3; k++) w->org[k] = org[k], w->dir[k] = dir[k];
+                        w->tmin = tmin;
+                        w->tmax = tmax;
+                        pdir[0][np] = dir[0];
+                        pdir[1][np] = dir[1];
+                        pdir[2][np] = dir[2];
                         pidx[np++] = i;
                         continue;
                     }
@@ -262,6 +271,7 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                         occluded[(ptrdiff_t)i * occluded_stride] = 0;
                     }
                 }
+                tt_wray_finish_rows(pw, pdir[0], pdir[1], pdir[2], np);
                 if (np >= TT_PACKET_MIN || o->packets == TT_PACKETS_ON) {
                     if (hits && counting) vt->intersect_packet_stats(accel, pw, np, ph, &plocal);
                     else if (hits) vt->intersect_packet(accel, pw, np, ph);

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "accel/accel.h"
+#include "accel/packets.h"
 #include "core/isa.h"
 #include "check.h"
 
@@ -370,9 +371,46 @@ static void bad_option(tt_context *ctx)
     tt_scene_destroy(scene);
 }
 
+/* The batch's packet prep (tt_wray_finish_rows) gives tt_wray_init's
+ * fields bit for bit: random directions, and hostile ones (zero and
+ * negative-zero components, ties between the largest components,
+ * denormals, huge values). */
+static void wray_rows(void)
+{
+    static const float special[] = {0.0f, -0.0f, 1.0f, -1.0f, 1e-31f, -1e-31f, 1e-40f, -1e-40f,
+                                    3e38f, -3e38f, 0.5f, -0.5f};
+    const uint32_t ns = sizeof special / sizeof special[0];
+    uint32_t x = 12345u;
+    tt_wray got[TT_PACKET_MAX], want;
+    float d[3][TT_PACKET_MAX];
+    for (int round = 0; round < 16; round++) {
+        const uint32_t n = round == 0 ? 1u : TT_PACKET_MAX - (uint32_t)round;
+        for (uint32_t i = 0; i < n; i++) {
+            for (int k = 0; k < 3; k++) {
+                const uint32_t r = next(&x);
+                d[k][i] = r % 3u == 0 ? special[(r >> 8) % ns] : 2.0f * unit(&x) - 1.0f;
+            }
+            if (d[0][i] == 0.0f && d[1][i] == 0.0f && d[2][i] == 0.0f) d[2][i] = 1.0f;
+            const float org[3] = {unit(&x), unit(&x), unit(&x)}, dir[3] = {d[0][i], d[1][i], d[2][i]};
+            memset(&got[i], 0, sizeof got[i]);
+            for (int k = 0; k < 3; k++) got[i].org[k] = org[k], got[i].dir[k] = dir[k];
+            got[i].tmin = 0.0f;
+            got[i].tmax = INFINITY;
+        }
+        tt_wray_finish_rows(got, d[0], d[1], d[2], n);
+        for (uint32_t i = 0; i < n; i++) {
+            memset(&want, 0, sizeof want);
+            tt_wray_init(&want, got[i].org, got[i].dir, 0.0f, INFINITY);
+            CHECK_MSG(memcmp(&want, &got[i], sizeof want) == 0, "ray %u of round %d: dir %g %g %g",
+                      i, round, (double)d[0][i], (double)d[1][i], (double)d[2][i]);
+        }
+    }
+}
+
 int main(void)
 {
     tt_context *ctx = tt_test_context();
+    wray_rows();
     bad_option(ctx);
     scene_view(ctx, "bun_zipper_res4.ply", "bunny_res4:main", 1);
     scene_view(ctx, "cornell_box.obj", "cornell:main", 1);

@@ -172,27 +172,32 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_block))(pk_rays *P, const int any, ui
             m;
         const pk_m neg = PK_MOR(PK_MOR(PK_CMP_LT(U, zero), PK_CMP_LT(V, zero)), PK_CMP_LT(W, zero));
         const pk_m pos = PK_MOR(PK_MOR(PK_CMP_GT(U, zero), PK_CMP_GT(V, zero)), PK_CMP_GT(W, zero));
-        const pk_v det = PK_ADD(PK_ADD(U, V), W);
-        const pk_v T = PK_ADD(PK_ADD(PK_MUL(U, PK_MUL(sz, az)), PK_MUL(V, PK_MUL(sz, bz))),
-                              PK_MUL(W, PK_MUL(sz, cz)));
-        const pk_v inv_det = PK_DIV(one, det);
-        const pk_v tt = PK_MUL(T, inv_det);
-        const pk_v tcur = PK_LOAD(P->t + base);
-        const pk_m nearer = PK_MOR(PK_CMP_LT(tt, tcur),
-                                   PK_MAND(PK_CMP_EQ(tt, tcur),
-                                           PK_IDGT(PK_LOADI(P->prim + base), b->prim[i])));
-        const pk_m ok = PK_MAND(PK_MAND(PK_CMP_NEQ(det, zero), PK_CMP_GE(tt, tmin)),
-                                any ? PK_CMP_LT(tt, tcur) : nearer);
-        const uint32_t acc = PK_BITS(PK_MANDNOT(PK_MAND(neg, pos), ok)) & m & ~zl;
-        if (any) {
-            m &= ~acc;
-            P->done[g] |= acc;
-        } else if (acc) {
-            const pk_m am = PK_MASK(acc);
-            PK_STORE(P->t + base, PK_BLEND(am, tcur, tt));
-            PK_STORE(P->u + base, PK_BLEND(am, PK_LOAD(P->u + base), PK_MUL(V, inv_det)));
-            PK_STORE(P->v + base, PK_BLEND(am, PK_LOAD(P->v + base), PK_MUL(W, inv_det)));
-            PK_STOREI(P->prim + base, PK_BLENDI(am, PK_LOADI(P->prim + base), b->prim[i]));
+        /* no lane inside all three edges: no division (16 lanes' worth a
+         * triangle), as the single-ray block kernel skips a block */
+        const uint32_t in = ~PK_BITS(PK_MAND(neg, pos)) & m & ~zl;
+        if (in) {
+            const pk_v det = PK_ADD(PK_ADD(U, V), W);
+            const pk_v T = PK_ADD(PK_ADD(PK_MUL(U, PK_MUL(sz, az)), PK_MUL(V, PK_MUL(sz, bz))),
+                                  PK_MUL(W, PK_MUL(sz, cz)));
+            const pk_v inv_det = PK_DIV(one, det);
+            const pk_v tt = PK_MUL(T, inv_det);
+            const pk_v tcur = PK_LOAD(P->t + base);
+            const pk_m nearer = PK_MOR(PK_CMP_LT(tt, tcur),
+                                       PK_MAND(PK_CMP_EQ(tt, tcur),
+                                               PK_IDGT(PK_LOADI(P->prim + base), b->prim[i])));
+            const pk_m ok = PK_MAND(PK_MAND(PK_CMP_NEQ(det, zero), PK_CMP_GE(tt, tmin)),
+                                    any ? PK_CMP_LT(tt, tcur) : nearer);
+            const uint32_t acc = PK_BITS(ok) & in;
+            if (any) {
+                m &= ~acc;
+                P->done[g] |= acc;
+            } else if (acc) {
+                const pk_m am = PK_MASK(acc);
+                PK_STORE(P->t + base, PK_BLEND(am, tcur, tt));
+                PK_STORE(P->u + base, PK_BLEND(am, PK_LOAD(P->u + base), PK_MUL(V, inv_det)));
+                PK_STORE(P->v + base, PK_BLEND(am, PK_LOAD(P->v + base), PK_MUL(W, inv_det)));
+                PK_STOREI(P->prim + base, PK_BLENDI(am, PK_LOADI(P->prim + base), b->prim[i]));
+            }
         }
         /* zero edge functions: tt_intersect_triangle's double-precision
          * recomputation, lane by lane (rare) */
@@ -435,11 +440,6 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_wray *ray
         P->nrow[k] = neg ? k + 3 : k;
         P->frow[k] = neg ? k : k + 3;
     }
-    /* the bounds in locals, min/max by selects: compares with branches
-     * mispredicted here (a tile's rays rise and fall along a row) */
-    float omin[3], omax[3], rmin[3], rmax[3], tmin_min = TT_INF;
-    for (uint32_t k = 0; k < 3; k++) omin[k] = rmin[k] = TT_INF, omax[k] = rmax[k] = -TT_INF;
-    int finite = 1;
     for (uint32_t i = 0; i < P->groups * PK_L; i++) {
         const tt_wray *r = &rays[idx[i < n ? i : 0]];
         P->ray[i] = r;
@@ -456,26 +456,32 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_wray *ray
         P->sx[i] = r->sx;
         P->sy[i] = r->sy;
         P->sz[i] = r->sz;
-        if (i < n) {
-            for (int k = 0; k < 3; k++) {
-                const float o = r->org[k], q = r->rcp[k];
-                omin[k] = o < omin[k] ? o : omin[k];
-                omax[k] = o > omax[k] ? o : omax[k];
-                rmin[k] = q < rmin[k] ? q : rmin[k];
-                rmax[k] = q > rmax[k] ? q : rmax[k];
-                finite &= isfinite(q);
-            }
-            tmin_min = r->tmin < tmin_min ? r->tmin : tmin_min;
-        }
     }
+    /* the packet's bounds a group at a time, by vector min/max (lanes past
+     * n repeat ray 0, already inside them): was a scalar compare and select
+     * per ray and axis */
+    const float *const orow[3] = {P->ox, P->oy, P->oz}, *const rrow[3] = {P->rx, P->ry, P->rz};
+    const pk_v inf = PK_SET1(TT_INF), ninf = PK_SET1(-TT_INF);
+    pk_v mag = PK_SET1(0.0f), tlo = inf;
+    for (uint32_t o = 0; o < P->groups * PK_L; o += PK_L) tlo = PK_MIN(PK_LOAD(P->tmin + o), tlo);
     for (uint32_t k = 0; k < 3; k++) {
-        P->omin[k] = omin[k];
-        P->omax[k] = omax[k];
-        P->rmin[k] = rmin[k];
-        P->rmax[k] = rmax[k];
+        pk_v olo = inf, ohi = ninf, rlo = inf, rhi = ninf;
+        for (uint32_t o = 0; o < P->groups * PK_L; o += PK_L) {
+            const pk_v ov = PK_LOAD(orow[k] + o), rv = PK_LOAD(rrow[k] + o);
+            olo = PK_MIN(ov, olo);
+            ohi = PK_MAX(ov, ohi);
+            rlo = PK_MIN(rv, rlo);
+            rhi = PK_MAX(rv, rhi);
+            mag = PK_MAX(PK_ABS(rv), mag);
+        }
+        P->omin[k] = PK_HMIN(olo);
+        P->omax[k] = PK_HMAX(ohi);
+        P->rmin[k] = PK_HMIN(rlo);
+        P->rmax[k] = PK_HMAX(rhi);
     }
-    P->tmin_min = tmin_min;
-    P->ia = finite;
+    P->tmin_min = PK_HMIN(tlo);
+    /* finite reciprocals (the batch's rays have no NaN) */
+    P->ia = PK_HMAX(mag) < TT_INF;
     for (uint32_t g = 0; g < P->groups; g++) {
         const uint32_t lanes = n - g * PK_L >= PK_L ? PK_L : n - g * PK_L;
         P->valid[g] = lanes == 32 ? ~0u : (1u << lanes) - 1u;

@@ -56,8 +56,16 @@ static inline float pk_hmin_avx2(__m256 x)
     m = _mm_min_ss(m, _mm_shuffle_ps(m, m, 1));
     return _mm_cvtss_f32(m);
 }
+static inline float pk_hmax_avx2(__m256 x)
+{
+    __m128 m = _mm_max_ps(_mm256_castps256_ps128(x), _mm256_extractf128_ps(x, 1));
+    m = _mm_max_ps(m, _mm_movehl_ps(m, m));
+    m = _mm_max_ss(m, _mm_shuffle_ps(m, m, 1));
+    return _mm_cvtss_f32(m);
+}
 #define PK_IDGT(v, id) _mm256_castsi256_ps(_mm256_cmpgt_epi32(v, _mm256_set1_epi32((int)(id))))
 #define PK_HMIN(x) pk_hmin_avx2(x)
+#define PK_HMAX(x) pk_hmax_avx2(x)
 
 #define RTC_BLOCKS_INTERSECT tt_tri_blocks_intersect_avx2
 #define RTC_BLOCKS_OCCLUDED tt_tri_blocks_occluded_avx2

@@ -43,6 +43,7 @@ typedef __mmask16 pk_m;
 #define PK_BLENDI(m, a, x) _mm512_mask_blend_epi32(m, a, _mm512_set1_epi32((int)(x)))
 #define PK_IDGT(v, id) _mm512_cmpgt_epi32_mask(v, _mm512_set1_epi32((int)(id)))
 #define PK_HMIN(x) _mm512_reduce_min_ps(x)
+#define PK_HMAX(x) _mm512_reduce_max_ps(x)
 
 #define RTC_BLOCKS_INTERSECT tt_tri_blocks_intersect_avx512
 #define RTC_BLOCKS_OCCLUDED tt_tri_blocks_occluded_avx512
