@@ -7,9 +7,10 @@ cd "$(dirname "$0")/.."
 
 # libxxhash-dev: the checksums of saved structures; libopenmpi-dev and
 # openmpi-bin: rendering across MPI ranks (optional at configure time, on
-# here because they are installed).
+# here because they are installed); libboost-dev: Boost.Geometry's R*-tree,
+# the yardstick of the insertion build (tools/rtree_boost_bench.cpp).
 packages=(build-essential cmake pkg-config libpng-dev libomp-dev libembree-dev libxxhash-dev
-          libopenmpi-dev openmpi-bin)
+          libopenmpi-dev openmpi-bin libboost-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
