@@ -61,16 +61,13 @@ int main(int argc, char **argv)
             continue;
         }
         tt_scene *scene = NULL;
-        if (tt_scene_load(ctx, argv[a], &scene) != TT_OK) {
-            fprintf(stderr, "%s: %s\n", argv[a], tt_context_last_error(ctx));
+        const char *name = NULL;
+        uint32_t T = 0;
+        float *box = rir_load(ctx, argv[a], &scene, &name, &T);
+        if (!box) {
             rc = 1;
             continue;
         }
-        const char *slash = strrchr(argv[a], '/');
-        const char *name = slash ? slash + 1 : argv[a];
-        uint32_t T = 0;
-        float *box = rir_boxes(scene, &T);
-        if (!box) return 1;
         std::vector<value> values;
         values.reserve(T);
         for (uint32_t i = 0; i < T; i++) {

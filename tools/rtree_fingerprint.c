@@ -44,20 +44,18 @@ int main(int argc, char **argv)
     int rc = 0;
     for (int a = 1; a < argc; a++) {
         tt_scene *scene = NULL;
-        if (tt_scene_load(ctx, argv[a], &scene) != TT_OK) {
-            fprintf(stderr, "%s: %s\n", argv[a], tt_context_last_error(ctx));
+        const char *name = NULL;
+        uint32_t T = 0;
+        float *box = rir_load(ctx, argv[a], &scene, &name, &T);
+        if (!box) {
             rc = 1;
             continue;
         }
-        const char *slash = strrchr(argv[a], '/');
-        const char *name = slash ? slash + 1 : argv[a];
-        uint32_t T = 0;
-        float *box = rir_boxes(scene, &T);
         tt_build_options bo;
         tt_build_options_default(&bo);
         tt_rtree_options o = bo.rtree;
         o.build = TT_RTREE_BUILD_INSERT;
-        for (int s = TT_RTREE_MIN_VOLUME; s <= TT_RTREE_RRSTAR && box; s++)
+        for (int s = TT_RTREE_MIN_VOLUME; s <= TT_RTREE_RRSTAR; s++)
             for (int re = 0; re <= 1; re++) {
                 o.strategy = (tt_rtree_strategy)s;
                 o.reinsert = re;
@@ -70,17 +68,13 @@ int main(int argc, char **argv)
                 o.m = 4;
                 rc |= run(ctx, name, box, T, &o, "m4M16");
             }
-        if (box) {
-            o = bo.rtree;
-            o.build = TT_RTREE_BUILD_INSERT;
-            o.split = TT_RTREE_SPLIT_QUADRATIC;
-            rc |= run(ctx, name, box, T, &o, "quadratic");
-            o.split = TT_RTREE_SPLIT_RSTAR;
-            o.reinsert_far = 0;
-            rc |= run(ctx, name, box, T, &o, "close");
-        } else {
-            rc = 1;
-        }
+        o = bo.rtree;
+        o.build = TT_RTREE_BUILD_INSERT;
+        o.split = TT_RTREE_SPLIT_QUADRATIC;
+        rc |= run(ctx, name, box, T, &o, "quadratic");
+        o.split = TT_RTREE_SPLIT_RSTAR;
+        o.reinsert_far = 0;
+        rc |= run(ctx, name, box, T, &o, "close");
         free(box);
         tt_scene_destroy(scene);
     }

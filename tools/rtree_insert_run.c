@@ -1,6 +1,7 @@
 /* See rtree_insert_run.h. */
 #include "rtree_insert_run.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -37,6 +38,25 @@ float *rir_boxes(const tt_scene *scene, uint32_t *count)
         }
     }
     *count = T;
+    return box;
+}
+
+float *rir_load(tt_context *ctx, const char *path, tt_scene **scene, const char **name,
+                uint32_t *count)
+{
+    *scene = NULL;
+    if (tt_scene_load(ctx, path, scene) != TT_OK) {
+        fprintf(stderr, "%s\n", tt_context_last_error(ctx)); /* it names the file */
+        return NULL;
+    }
+    const char *slash = strrchr(path, '/');
+    *name = slash ? slash + 1 : path;
+    float *box = rir_boxes(*scene, count);
+    if (!box) {
+        fprintf(stderr, "%s: out of memory for the triangle boxes\n", path);
+        tt_scene_destroy(*scene);
+        *scene = NULL;
+    }
     return box;
 }
 

@@ -24,6 +24,12 @@ typedef struct rir_result {
  * as the R-tree's build computes them; free() the result. NULL on error. */
 float *rir_boxes(const tt_scene *scene, uint32_t *count);
 
+/* Loads the scene at path (*scene; tt_scene_destroy it) and returns its
+ * boxes as rir_boxes does, *name the path's file name. On error says why on
+ * stderr, naming the file, and returns NULL. */
+float *rir_load(tt_context *ctx, const char *path, tt_scene **scene, const char **name,
+                uint32_t *count);
+
 /* Builds the pointer tree by inserting the boxes in id order with options o
  * (M = 0 is resolved as the library does), times it and fingerprints it.
  * Returns 0 on success. */
