@@ -54,13 +54,14 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
              * cases, without the sort's loops (their exits are branches
              * the predictor misses when the count varies); the same order
              * as the sort below (equal distances keep lane order). */
-            if (level > 1 && !(mask & (mask - 1))) {
+            const uint32_t rest = mask & (mask - 1); /* the hits after the first */
+            if (level > 1 && !rest) {
                 n = child[tt_rt_ctz(mask)];
                 level--;
                 continue;
             }
-            if (level > 1 && !((mask & (mask - 1)) & ((mask & (mask - 1)) - 1))) {
-                const uint32_t i0 = tt_rt_ctz(mask), i1 = tt_rt_ctz(mask & (mask - 1));
+            if (level > 1 && !(rest & (rest - 1))) {
+                const uint32_t i0 = tt_rt_ctz(mask), i1 = tt_rt_ctz(rest);
                 const float t0 = tb[i0], t1 = tb[i1];
                 const int swap = t1 < t0;
                 stack_node[sp] = child[swap ? i0 : i1];
