@@ -42,8 +42,12 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
     TT_COUNT(stats, rays, 1);
     uint32_t n = 0, level = t->height;
     for (;;) {
-        const float *rec = tt_rtc_node(t, n);
-        const uint32_t *child = tt_rtc_child(t, rec);
+        /* Record n at n * tt_rtc_words(S): a power of two for S = 4, 8, 16
+         * (32, 64, 128 words), so a shift instead of t->words' multiply on
+         * the walk's chain of dependent loads. Every record array has that
+         * size (rtc_pack, the in-place update, and the loader checks it). */
+        const float *rec = t->node + (size_t)n * tt_rtc_words(S);
+        const uint32_t *child = (const uint32_t *)(rec + 6 * S);
         float tb[TT_RT_MAX_M];
         uint32_t mask = rtc_group_test(&lanes, &planes, rec, S, h.t, tb);
         TT_COUNT(stats, nodes, 1);
