@@ -59,15 +59,40 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
              * the predictor misses when the count varies); the same order
              * as the sort below (equal distances keep lane order). */
             const uint32_t rest = mask & (mask - 1); /* the hits after the first */
-            if (level > 1 && !rest) {
-                n = child[tt_rt_ctz(mask)];
-                level--;
-                continue;
+            if (!rest) {
+                if (level > 1) {
+                    n = child[tt_rt_ctz(mask)];
+                    level--;
+                    continue;
+                }
+                /* the one hit leaf of a level-1 node (the commonest
+                 * level-1 case): its entry is below h.t, the group test's
+                 * bound; the record's lowest block as in the loop below */
+                uint64_t done = 0;
+                if (TT_VARIANT(RTC_FN(rtc_leaf))(t, child[tt_rt_ctz(mask)],
+                                                 tt_rtc_leaf_block(child[0]), &done, any, r, &h,
+                                                 stats))
+                    return 1;
+                goto pop;
             }
-            if (level > 1 && !(rest & (rest - 1))) {
+            if (!(rest & (rest - 1))) {
                 const uint32_t i0 = tt_rt_ctz(mask), i1 = tt_rt_ctz(rest);
                 const float t0 = tb[i0], t1 = tb[i1];
                 const int swap = t1 < t0;
+                if (level == 1) {
+                    /* two hit leaves, the nearer first; the farther while
+                     * still in front of the closest hit */
+                    const uint32_t base = tt_rtc_leaf_block(child[0]);
+                    uint64_t done = 0;
+                    if (TT_VARIANT(RTC_FN(rtc_leaf))(t, child[swap ? i1 : i0], base, &done, any,
+                                                     r, &h, stats))
+                        return 1;
+                    if ((swap ? t0 : t1) < h.t &&
+                        TT_VARIANT(RTC_FN(rtc_leaf))(t, child[swap ? i0 : i1], base, &done, any,
+                                                     r, &h, stats))
+                        return 1;
+                    goto pop;
+                }
                 stack_node[sp] = child[swap ? i0 : i1];
                 stack_l[sp] = (uint8_t)(level - 1);
                 stack_t[sp++] = swap ? t0 : t1;
@@ -112,6 +137,7 @@ TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_stack_m))(const tt_rtc *TT_RESTRICT t, co
                 continue;
             }
         }
+    pop:
         /* the nearest waiting entry still in front of the closest hit */
         for (;;) {
             if (!sp) goto done;
