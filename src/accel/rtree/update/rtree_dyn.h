@@ -87,6 +87,7 @@ typedef struct rt_dyn {
      * wrote only tri_box and the layout): refit from tri_box before use */
     int boxes_stale;
     uint32_t *ids; /* an update's changed ids */
+    uint32_t *lev_rec, lev_cap; /* a deformation's records by level */
     size_t ids_cap;
 } rt_dyn;
 
@@ -136,10 +137,11 @@ void rt_dyn_release(rt_dyn *d, uint32_t n);
 void rt_dyn_touch(void *d, uint32_t n);
 
 /* A pure deformation (every live triangle in the tree, none added or
- * removed): boxes refit from the vertices, lanes and records written, in
- * one walk of the tree; the pointer tree's entry boxes are left stale
- * (boxes_stale). Returns 0 (nothing done) where the general path
- * must run: a lone leaf as root, or a layout still to be rewritten. */
+ * removed): boxes refit from the vertices, lanes and records written
+ * straight on the compact records, level by level (rtree_dyn_deform.c);
+ * the pointer tree's entry boxes are left stale (boxes_stale). Returns 0
+ * (nothing done) where the general path must run: a lone leaf as root, a
+ * layout still to be rewritten, or one not the slack layout. */
 int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads);
 
 /* The whole update: the ids stamped after `since` (tt_accel_update). */

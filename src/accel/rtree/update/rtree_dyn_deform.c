@@ -1,0 +1,163 @@
+/* A pure deformation (rtree_dyn.h, rt_dyn_deform): every triangle moved,
+ * none added or removed, so the tree keeps its shape and only boxes and
+ * lanes change. It works on the compact records themselves, level by
+ * level, without the pointer tree: every leaf hangs from a level-1 record
+ * (an R-tree), so the level-1 records are independent of each other (each
+ * owns its region of blocks in the slack layout) and are refit in
+ * parallel straight from their leaves' lanes, which name their triangles;
+ * then each level above from the boxes of its children's records. The
+ * pointer walk it replaces spent most of its instructions on the walk
+ * itself (headers, child arrays, a call per leaf) rather than on the
+ * triangles, and shared its work out only by the root's few subtrees. */
+#include <math.h>
+#include <string.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+#include "accel/rtree/rtree_box.h"
+#include "accel/rtree/update/rtree_dyn.h"
+
+/* tt_tri_is_degenerate's expression (the one rtc_pack stores a triangle
+ * as NaN by), inline: a call here clobbered the leaf's union kept in
+ * vector registers. Same flags as tri_block.c (generic, no contraction),
+ * so the same answer. */
+static inline int degenerate(const float *a, const float *b, const float *c)
+{
+    const float e1x = b[0] - a[0], e1y = b[1] - a[1], e1z = b[2] - a[2];
+    const float e2x = c[0] - a[0], e2y = c[1] - a[1], e2z = c[2] - a[2];
+    return e1y * e2z - e1z * e2y == 0.0f && e1z * e2x - e1x * e2z == 0.0f &&
+           e1x * e2y - e1y * e2x == 0.0f;
+}
+
+/* The leaf of lanes [g0, g0 + cnt): each lane's triangle (its id in the
+ * lane) read from the scene into the lane (NaN when degenerate, as
+ * rtc_pack writes it) and its box into tri_box; *out their union. */
+static inline void deform_leaf(rt_dyn *d, tt_tri_block *blk, const float *tri, uint64_t g0,
+                               uint32_t cnt, float out[6])
+{
+#if defined(__SSE2__)
+    __m128 lo = _mm_set1_ps(TT_INF), hi = _mm_set1_ps(-TT_INF);
+#else
+    float lo[3] = {TT_INF, TT_INF, TT_INF}, hi[3] = {-TT_INF, -TT_INF, -TT_INF};
+#endif
+    for (uint64_t g = g0; g < g0 + cnt; g++) {
+        tt_tri_block *bk = blk + g / TT_TRI_BLOCK_W;
+        const uint32_t l = (uint32_t)(g % TT_TRI_BLOCK_W), id = bk->prim[l];
+        float v[12];
+        memcpy(v, tri + 9 * (size_t)id, 9 * sizeof(float));
+        v[9] = v[10] = v[11] = 0.0f;
+        float *bx = d->tri_box + 6 * (size_t)id;
+#if defined(__SSE2__)
+        /* a corner a vector load: the same min / max per coordinate */
+        const __m128 p0 = _mm_loadu_ps(v), p1 = _mm_loadu_ps(v + 3), p2 = _mm_loadu_ps(v + 6);
+        const __m128 mn = _mm_min_ps(_mm_min_ps(p0, p1), p2);
+        const __m128 mx = _mm_max_ps(_mm_max_ps(p0, p1), p2);
+        lo = _mm_min_ps(lo, mn);
+        hi = _mm_max_ps(hi, mx);
+        float b8[8];
+        _mm_storeu_ps(b8, mn);
+        _mm_storeu_ps(b8 + 3, mx);
+        memcpy(bx, b8, 6 * sizeof(float));
+#else
+        for (int k = 0; k < 3; k++) {
+            bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
+            bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
+            lo[k] = rt_min(lo[k], bx[k]);
+            hi[k] = rt_max(hi[k], bx[k + 3]);
+        }
+#endif
+        if (degenerate(v, v + 3, v + 6))
+            for (int q = 0; q < 9; q++) bk->v[q][l] = NAN;
+        else
+            for (int q = 0; q < 9; q++) bk->v[q][l] = v[q];
+    }
+#if defined(__SSE2__)
+    float o[8];
+    _mm_storeu_ps(o, lo);
+    _mm_storeu_ps(o + 4, hi);
+    memcpy(out, o, 3 * sizeof(float));
+    memcpy(out + 3, o + 4, 3 * sizeof(float));
+#else
+    memcpy(out, lo, sizeof lo);
+    memcpy(out + 3, hi, sizeof hi);
+#endif
+}
+
+/* Level-1 record r: its leaves refit, their boxes into its rows. */
+static void deform_record(rt_dyn *d, const tt_rtc *c, const float *tri, uint32_t r)
+{
+    float *rec = (float *)tt_rtc_node(c, r);
+    const uint32_t *ref = tt_rtc_child(c, rec);
+    const uint32_t cnt = tt_rtc_count(c, rec), S = c->S;
+    tt_tri_block *blk = (tt_tri_block *)c->block;
+    for (uint32_t i = 0; i < cnt; i++) {
+        float cb[6];
+        const uint64_t g0 =
+            (uint64_t)tt_rtc_leaf_block(ref[i]) * TT_TRI_BLOCK_W + tt_rtc_leaf_lane(ref[i]);
+        deform_leaf(d, blk, tri, g0, tt_rtc_leaf_count(ref[i]), cb);
+        for (uint32_t k = 0; k < 6; k++) rec[k * S + i] = cb[k];
+    }
+}
+
+/* Record r above level 1: entry i's box the union of child record i's
+ * entries (a record's slots past its count already hold the free mark,
+ * and the count does not change here). */
+static void refit_record(const tt_rtc *c, uint32_t r)
+{
+    float *rec = (float *)tt_rtc_node(c, r);
+    const uint32_t *ref = tt_rtc_child(c, rec);
+    const uint32_t cnt = tt_rtc_count(c, rec), S = c->S;
+    for (uint32_t i = 0; i < cnt; i++) {
+        const float *cr = tt_rtc_node(c, ref[i]);
+        const uint32_t cc = tt_rtc_count(c, cr);
+        for (uint32_t k = 0; k < 3; k++) {
+            const float *rl = cr + k * S, *rh = cr + (k + 3) * S;
+            float lo = TT_INF, hi = -TT_INF;
+            for (uint32_t j = 0; j < cc; j++) {
+                lo = rt_min(lo, rl[j]);
+                hi = rt_max(hi, rh[j]);
+            }
+            rec[k * S + i] = lo;
+            rec[(k + 3) * S + i] = hi;
+        }
+    }
+}
+
+int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads)
+{
+    rt_builder *b = &d->b;
+    const tt_rtc *c = &t->c;
+    /* the general path: a lone leaf as root, a layout still to be written,
+     * or the packer's layout (whose level-1 nodes may share blocks) */
+    if (b->hdr[b->root].level == 0 || d->must_repack || !d->slack) return 0;
+    const uint32_t nodes = c->nodes, height = c->height;
+    if (height == 0 || height > 255) return 0;
+    /* the used records by level (free ones have level 0): counting sort */
+    if (nodes > d->lev_cap) {
+        uint32_t *l = tt_realloc_array(b->ctx, d->lev_rec, nodes, sizeof *l);
+        if (!l) return 0; /* the general path needs no buffer */
+        d->lev_rec = l;
+        d->lev_cap = nodes;
+    }
+    uint32_t start[257] = {0};
+    for (uint32_t r = 0; r < nodes; r++) start[tt_rtc_level(c, tt_rtc_node(c, r)) + 1]++;
+    for (uint32_t k = 1; k <= 256; k++) start[k] += start[k - 1];
+    uint32_t fill[256];
+    memcpy(fill, start, sizeof fill);
+    for (uint32_t r = 0; r < nodes; r++) {
+        const uint32_t lv = tt_rtc_level(c, tt_rtc_node(c, r));
+        if (lv) d->lev_rec[fill[lv]++] = r;
+    }
+    const uint32_t *lev = d->lev_rec;
+    const float *tri = scene->tri;
+    const long n1 = (long)(start[2] - start[1]);
+    /* level 1: the leaves, on the threads (regions are disjoint) */
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+    for (long k = 0; k < n1; k++) deform_record(d, c, tri, lev[start[1] + (uint32_t)k]);
+    /* above: few records (a sixteenth per level), one thread */
+    for (uint32_t lv = 2; lv <= height; lv++)
+        for (uint32_t k = start[lv]; k < start[lv + 1]; k++) refit_record(c, lev[k]);
+    d->boxes_stale = 1;
+    return 1;
+}
