@@ -546,173 +546,19 @@ static void write_region(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint
                                  cnt);
         d->rec_of[l] = TT_INVALID_ID;
     }
-    /* the tail: every lane after the last leaf unused (a stable placement
-     * before, write_region_at, may have left leaves anywhere in the
-     * region, so no block's first lane says where the old packing ended) */
-    lanes_vacate(c, base, cursor, (1u << d->grp_hi[n]) * TT_TRI_BLOCK_W);
+    /* the tail: the rest of the cursor's block lane by lane, then whole
+     * blocks while they still hold a leaf's start (every packing fills the
+     * region's blocks from the first, each starting at lane 0, so the first
+     * block without one ends what the previous packing used) */
+    const uint32_t end = (1u << d->grp_hi[n]) * TT_TRI_BLOCK_W;
+    uint32_t next = (cursor + TT_TRI_BLOCK_W - 1) / TT_TRI_BLOCK_W * TT_TRI_BLOCK_W;
+    lanes_vacate(c, base, cursor, next < end ? next : end);
+    for (; next < end; next += TT_TRI_BLOCK_W) {
+        const uint64_t g = base + next;
+        if (((const tt_tri_block *)c->block)[g / TT_TRI_BLOCK_W].prim[0] == TT_INVALID_ID) break;
+        lanes_vacate(c, base, next, next + TT_TRI_BLOCK_W);
+    }
     d->last_blocks += used;
-}
-
-/* A stable placement of level-1 node n's leaves in its region: a leaf not
- * touched since the last sync stays on the lanes it holds, the others go
- * first fit into the lanes left (within one block when they can). First
- * fit in entry order (write_region) moves every leaf after one that grew or
- * shrank: on the bunny's 1%-edits frames about twenty lanes were rewritten
- * from the scene per touched region for the one or two that changed. The
- * format allows holes (lanes of no leaf are NaN without an id) but wants
- * the first entry's leaf in the lowest block and every leaf within 2 M
- * blocks of it: the entry with the lowest block is swapped to the front of
- * n (before its record is written). at[i]: entry i's first lane in the
- * region; kept: bit i, the leaf stays. Returns 0 where it does not fit
- * (write_region packs it afresh then). */
-#define REG_MAX_BLOCKS 32 /* the largest region class */
-
-/* Occupancy: bit j of occ[b] marks lane j of the region's block b. Lanes
- * [r, r + k) (k <= 16, r % 8 + k <= 16: at most two blocks) as a mask. */
-static void occ_set(uint8_t *occ, uint32_t r, uint32_t k)
-{
-    const uint32_t m = ((1u << k) - 1u) << (r % TT_TRI_BLOCK_W);
-    occ[r / TT_TRI_BLOCK_W] |= (uint8_t)m;
-    occ[r / TT_TRI_BLOCK_W + 1] |= (uint8_t)(m >> 8);
-}
-
-/* The first lane of the first run of k free lanes a reference can name
- * (it starts at lane 0..7 of a block): inside one block when k <= 8 and
- * one is free, else across two; UINT32_MAX: none. occ[nblk] is full. */
-static uint32_t occ_find(const uint8_t *occ, uint32_t nblk, uint32_t k)
-{
-    for (int pass = k <= TT_TRI_BLOCK_W ? 0 : 1; pass < 2; pass++)
-        for (uint32_t b = 0; b < nblk; b++) {
-            uint32_t free = (uint32_t)(uint8_t)~occ[b];
-            if (pass) free |= (uint32_t)(uint8_t)~occ[b + 1] << 8;
-            uint32_t x = free; /* bit s: lanes s .. s + k - 1 free */
-            for (uint32_t j = 1; j < k && x; j++) x &= free >> j;
-            x &= 0xffu; /* a reference's lane is 0..7 */
-            if (x) return b * TT_TRI_BLOCK_W + (uint32_t)__builtin_ctz(x);
-        }
-    return UINT32_MAX;
-}
-
-/* A stable placement of level-1 node n's leaves in its region: a leaf not
- * touched since the last sync stays on the lanes it holds, the others go
- * first fit into the lanes left (inside one block when they can). First
- * fit in entry order (write_region) moves every leaf after one that grew or
- * shrank: on the bunny's 1%-edits frames most lanes of a touched region
- * were rewritten from the scene for the few that changed. The format
- * allows holes (lanes of no leaf are NaN without an id) but wants the
- * first entry's leaf in the lowest block and every leaf within 2 M blocks
- * of it: the entry with the lowest block is swapped to the front of n
- * (before its record is written). A leaf stays when its first lane (as
- * lane_of says) lies in the region and still holds its first id: its
- * content is as the last sync wrote it (not touched), the lanes it had
- * then were its own, and a region freed since was cleared. at[i]: entry
- * i's first lane in the region; *kept: bit i, the leaf stays; occ: the
- * region's lanes in use after. Returns 0 where it does not fit
- * (write_region packs it afresh then). */
-static int plan_region(rt_dyn *d, const tt_rtc *c, uint32_t n, uint32_t at[TT_RT_CAP],
-                       uint32_t *kept, uint8_t occ[REG_MAX_BLOCKS + 1])
-{
-    rt_builder *b = &d->b;
-    const uint32_t W = TT_TRI_BLOCK_W, nblk = 1u << d->grp_hi[n], lanes = nblk * W;
-    if (nblk > REG_MAX_BLOCKS) return 0;
-    const uint64_t base = (uint64_t)d->grp_of[n] * W;
-    const tt_tri_block *blk = c->block;
-    memset(occ, 0, nblk);
-    occ[nblk] = 0xff;
-    uint32_t *ch = rt_node_child(b, n);
-    const int cnt = b->hdr[n].count;
-    *kept = 0;
-    if (cnt <= 0) return 0;
-    for (int i = 0; i < cnt; i++) { /* the leaves that stay */
-        const uint32_t l = ch[i], k = b->hdr[l].count, *id = rt_node_child(b, l);
-        at[i] = UINT32_MAX;
-        if (k == 0 || k > 2 * W || (l < d->touched_cap && d->touched[l])) continue;
-        const uint64_t g = d->lane_of[id[0]];
-        if (g < base || g + k > base + lanes || (g - base) % W + k > 2 * W ||
-            blk[g / W].prim[g % W] != id[0])
-            continue;
-        at[i] = (uint32_t)(g - base);
-        occ_set(occ, at[i], k);
-        *kept |= 1u << i;
-    }
-    occ[nblk] = 0xff; /* a kept leaf's mask may spill past the last block */
-    for (int i = 0; i < cnt; i++) { /* the others, first fit */
-        if (at[i] != UINT32_MAX) continue;
-        const uint32_t k = b->hdr[ch[i]].count;
-        if (k == 0 || k > 2 * W) return 0;
-        at[i] = occ_find(occ, nblk, k);
-        if (at[i] == UINT32_MAX) return 0;
-        occ_set(occ, at[i], k);
-        occ[nblk] = 0xff;
-    }
-    /* the lowest block first, the others within 2 M blocks of it */
-    int lo = 0;
-    uint32_t bmin = at[0] / W, bmax = at[0] / W;
-    for (int i = 1; i < cnt; i++) {
-        if (at[i] / W < bmin) {
-            bmin = at[i] / W;
-            lo = i;
-        }
-        if (at[i] / W > bmax) bmax = at[i] / W;
-    }
-    if (bmax - bmin + 2 > 2 * c->M) return 0;
-    if (lo != 0) { /* entries 0 and lo exchanged in n (boxes, children, slots) */
-        float e0[6], e1[6];
-        float *sb = rt_node_box(b, n);
-        rt_soa_get(sb, b->cap, 0, e0);
-        rt_soa_get(sb, b->cap, lo, e1);
-        rt_soa_put(sb, b->cap, 0, e1);
-        rt_soa_put(sb, b->cap, lo, e0);
-        const uint32_t t0 = ch[0];
-        ch[0] = ch[lo];
-        ch[lo] = t0;
-        b->hdr[ch[0]].slot = 0;
-        b->hdr[ch[lo]].slot = (uint8_t)lo;
-        const uint32_t a0 = at[0];
-        at[0] = at[lo];
-        at[lo] = a0;
-        const uint32_t k0 = *kept & 1u, kl = *kept >> lo & 1u;
-        *kept = (*kept & ~(1u | 1u << lo)) | kl | k0 << lo;
-    }
-    return 1;
-}
-
-/* Level-1 node n's leaves written where plan_region put them (the kept
- * ones are already there), every other lane of the region unused; the
- * references into ref. */
-static void write_region_at(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
-                            uint32_t *ref, const uint32_t at[TT_RT_CAP], uint32_t kept,
-                            const uint8_t *occ)
-{
-    const rt_builder *b = &d->b;
-    const uint32_t W = TT_TRI_BLOCK_W, nblk = 1u << d->grp_hi[n];
-    const uint64_t base = (uint64_t)d->grp_of[n] * W;
-    const uint32_t *ch = rt_node_child(b, n);
-    uint32_t top = 0;
-    for (int i = 0; i < b->hdr[n].count; i++) {
-        const uint32_t l = ch[i], cnt = b->hdr[l].count, *id = rt_node_child(b, l);
-        for (uint32_t k = 0; k < cnt && !(kept >> i & 1u); k++) {
-            const uint64_t g = base + at[i] + k;
-            tt_tri_block *bk = (tt_tri_block *)c->block + g / W;
-            const uint32_t lane = (uint32_t)(g % W);
-            const float *v = scene->tri + 9 * (size_t)id[k];
-            const int dead = tt_tri_is_degenerate(v, v + 3, v + 6); /* as rtc_pack writes */
-            for (int q = 0; q < 9; q++) bk->v[q][lane] = dead ? NAN : v[q];
-            bk->prim[lane] = id[k];
-            d->lane_of[id[k]] = (uint32_t)g;
-        }
-        if (at[i] + cnt > top) top = at[i] + cnt;
-        const uint64_t g0 = base + at[i];
-        ref[i] = tt_rtc_leaf_ref((uint32_t)(g0 / W), (uint32_t)(g0 % W), cnt);
-        d->rec_of[l] = TT_INVALID_ID;
-    }
-    /* the lanes of no leaf: those still holding a triangle cleared */
-    for (uint32_t bl = 0; bl < nblk; bl++)
-        for (uint32_t free = (uint8_t)~occ[bl]; free; free &= free - 1) {
-            const uint32_t j = (uint32_t)__builtin_ctz(free);
-            lanes_vacate(c, base, bl * W + j, bl * W + j + 1);
-        }
-    d->last_blocks += (top + W - 1) / W;
 }
 
 /* rtc_set_boxes's result (the entries' rows, the free mark past cnt) in
@@ -738,9 +584,6 @@ static void write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32
     const uint32_t r = lay_pos(d, n), cnt = b->hdr[n].count, level = b->hdr[n].level;
     const int moved = d->rec_of[n] != r;
     d->rec_of[n] = r;
-    uint32_t at[TT_RT_CAP], kept = 0;
-    uint8_t occ[REG_MAX_BLOCKS + 1];
-    const int stable = level == 1 && plan_region(d, c, n, at, &kept, occ); /* may reorder n */
     float *rec = (float *)tt_rtc_node(c, r);
     uint32_t *ref = (uint32_t *)(rec + 6 * c->S);
     set_boxes(c, rec, rt_node_box(b, n), (uint32_t)b->cap, cnt);
@@ -757,8 +600,6 @@ static void write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32
         }
         for (uint32_t i = cnt; i < d->grp_hi[n]; i++) record_clear(c, g + i);
         d->grp_hi[n] = (uint8_t)cnt;
-    } else if (stable) {
-        write_region_at(d, c, scene, n, ref, at, kept, occ);
     } else {
         write_region(d, c, scene, n, ref);
     }
