@@ -83,8 +83,9 @@ typedef struct rt_dyn {
     uint64_t compactions, last_records, last_blocks;
     double last_tree_s, last_layout_s;
     int must_repack; /* the layout's boxes predate the tree's (first update) */
-    /* the pointer tree's entry boxes predate the last deformation (which
-     * wrote only tri_box and the layout): refit from tri_box before use */
+    /* the pointer tree's entry boxes and tri_box predate the last
+     * deformation (which wrote the layout, and tri_box only for degenerate
+     * triangles): tri_box from the lanes and a refit before use */
     int boxes_stale;
     uint32_t *ids; /* an update's changed ids */
     uint32_t *lev_rec, lev_cap; /* a deformation's records by level */
@@ -143,6 +144,10 @@ void rt_dyn_touch(void *d, uint32_t n);
  * (nothing done) where the general path must run: a lone leaf as root, a
  * layout still to be rewritten, or one not the slack layout. */
 int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads);
+/* After deformations (boxes_stale): tri_box of every id in a lane that is
+ * not degenerate from the lane's vertices (the deformation wrote only the
+ * degenerate ones' boxes), as of the last update. */
+void rt_dyn_boxes_from_lanes(rt_dyn *d, const rtc_tree *t);
 
 /* The whole update: the ids stamped after `since` (tt_accel_update). */
 tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *scene,

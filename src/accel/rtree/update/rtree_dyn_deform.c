@@ -32,7 +32,12 @@ static inline int degenerate(const float *a, const float *b, const float *c)
 
 /* The leaf of lanes [g0, g0 + cnt): each lane's triangle (its id in the
  * lane) read from the scene into the lane (NaN when degenerate, as
- * rtc_pack writes it) and its box into tri_box; *out their union. */
+ * rtc_pack writes it); *out their union. A triangle's own box goes into
+ * tri_box only when it is degenerate: the others' are in their lanes and
+ * rt_dyn_boxes_from_lanes takes them from there when an update needs them
+ * (a run of deformations never does; the stores were a tenth of the
+ * walk's instructions and a megabyte and a half of writes a frame on the
+ * bunny). */
 static inline void deform_leaf(rt_dyn *d, tt_tri_block *blk, const float *tri, uint64_t g0,
                                uint32_t cnt, float out[6])
 {
@@ -47,7 +52,6 @@ static inline void deform_leaf(rt_dyn *d, tt_tri_block *blk, const float *tri, u
         float v[12];
         memcpy(v, tri + 9 * (size_t)id, 9 * sizeof(float));
         v[9] = v[10] = v[11] = 0.0f;
-        float *bx = d->tri_box + 6 * (size_t)id;
 #if defined(__SSE2__)
         /* a corner a vector load: the same min / max per coordinate */
         const __m128 p0 = _mm_loadu_ps(v), p1 = _mm_loadu_ps(v + 3), p2 = _mm_loadu_ps(v + 6);
@@ -55,22 +59,22 @@ static inline void deform_leaf(rt_dyn *d, tt_tri_block *blk, const float *tri, u
         const __m128 mx = _mm_max_ps(_mm_max_ps(p0, p1), p2);
         lo = _mm_min_ps(lo, mn);
         hi = _mm_max_ps(hi, mx);
-        float b8[8];
-        _mm_storeu_ps(b8, mn);
-        _mm_storeu_ps(b8 + 3, mx);
-        memcpy(bx, b8, 6 * sizeof(float));
 #else
         for (int k = 0; k < 3; k++) {
-            bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
-            bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
-            lo[k] = rt_min(lo[k], bx[k]);
-            hi[k] = rt_max(hi[k], bx[k + 3]);
+            lo[k] = rt_min(lo[k], rt_min(rt_min(v[k], v[3 + k]), v[6 + k]));
+            hi[k] = rt_max(hi[k], rt_max(rt_max(v[k], v[3 + k]), v[6 + k]));
         }
 #endif
-        if (degenerate(v, v + 3, v + 6))
+        if (degenerate(v, v + 3, v + 6)) { /* rare: its box again, scalar */
+            float *bx = d->tri_box + 6 * (size_t)id;
+            for (int k = 0; k < 3; k++) {
+                bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
+                bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
+            }
             for (int q = 0; q < 9; q++) bk->v[q][l] = NAN;
-        else
+        } else {
             for (int q = 0; q < 9; q++) bk->v[q][l] = v[q];
+        }
     }
 #if defined(__SSE2__)
     float o[8];
@@ -160,4 +164,22 @@ int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads)
         for (uint32_t k = start[lv]; k < start[lv + 1]; k++) refit_record(c, lev[k]);
     d->boxes_stale = 1;
     return 1;
+}
+
+void rt_dyn_boxes_from_lanes(rt_dyn *d, const rtc_tree *t)
+{
+    const tt_rtc *c = &t->c;
+    for (uint32_t j = 0; j < c->blocks; j++) {
+        const tt_tri_block *bk = &c->block[j];
+        for (uint32_t l = 0; l < TT_TRI_BLOCK_W; l++) {
+            const uint32_t id = bk->prim[l];
+            /* no triangle, or a degenerate one (its box is in tri_box) */
+            if (id == TT_INVALID_ID || id >= d->id_cap || isnan(bk->v[0][l])) continue;
+            float *bx = d->tri_box + 6 * (size_t)id;
+            for (int k = 0; k < 3; k++) {
+                bx[k] = rt_min(rt_min(bk->v[k][l], bk->v[3 + k][l]), bk->v[6 + k][l]);
+                bx[k + 3] = rt_max(rt_max(bk->v[k][l], bk->v[3 + k][l]), bk->v[6 + k][l]);
+            }
+        }
+    }
 }
