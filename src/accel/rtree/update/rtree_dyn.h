@@ -23,6 +23,18 @@
  * and `treetrace info`). */
 #define RT_DYN_COMPACT_FREE 4
 
+/* tt_tri_is_degenerate's expression (the one rtc_pack stores a triangle
+ * as NaN by), inline for the update's lane writers: a call clobbered the
+ * deformation's leaf union kept in vector registers. Same flags as
+ * tri_block.c (generic, no contraction), so the same answer. */
+static inline int rt_dyn_degenerate(const float *a, const float *b, const float *c)
+{
+    const float e1x = b[0] - a[0], e1y = b[1] - a[1], e1z = b[2] - a[2];
+    const float e2x = c[0] - a[0], e2y = c[1] - a[1], e2z = c[2] - a[2];
+    return e1y * e2z - e1z * e2y == 0.0f && e1z * e2x - e1x * e2z == 0.0f &&
+           e1x * e2y - e1y * e2x == 0.0f;
+}
+
 typedef struct rt_dyn {
     rt_builder b;
     float *tri_box;      /* 6 floats an id: the box the tree holds it with  */

@@ -229,7 +229,7 @@ void rt_dyn_write_lane(rt_dyn *d, rtc_tree *t, const tt_scene *scene, uint32_t i
     tt_tri_block *bk = (tt_tri_block *)t->c.block + g / TT_TRI_BLOCK_W;
     const uint32_t l = g % TT_TRI_BLOCK_W;
     const float *v = scene->tri + 9 * (size_t)id;
-    const int dead = tt_tri_is_degenerate(v, v + 3, v + 6); /* as rtc_pack writes it */
+    const int dead = rt_dyn_degenerate(v, v + 3, v + 6); /* as rtc_pack writes it */
     for (int q = 0; q < 9; q++) bk->v[q][l] = dead ? NAN : v[q];
 }
 
@@ -536,7 +536,7 @@ static void write_region(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint
             tt_tri_block *bk = (tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
             const uint32_t lane = (uint32_t)(g % TT_TRI_BLOCK_W);
             const float *v = scene->tri + 9 * (size_t)id[k];
-            const int dead = tt_tri_is_degenerate(v, v + 3, v + 6); /* as rtc_pack writes */
+            const int dead = rt_dyn_degenerate(v, v + 3, v + 6); /* as rtc_pack writes */
             for (int q = 0; q < 9; q++) bk->v[q][lane] = dead ? NAN : v[q];
             bk->prim[lane] = id[k];
             d->lane_of[id[k]] = (uint32_t)g;

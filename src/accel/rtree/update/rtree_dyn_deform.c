@@ -18,18 +18,6 @@
 #include "accel/rtree/rtree_box.h"
 #include "accel/rtree/update/rtree_dyn.h"
 
-/* tt_tri_is_degenerate's expression (the one rtc_pack stores a triangle
- * as NaN by), inline: a call here clobbered the leaf's union kept in
- * vector registers. Same flags as tri_block.c (generic, no contraction),
- * so the same answer. */
-static inline int degenerate(const float *a, const float *b, const float *c)
-{
-    const float e1x = b[0] - a[0], e1y = b[1] - a[1], e1z = b[2] - a[2];
-    const float e2x = c[0] - a[0], e2y = c[1] - a[1], e2z = c[2] - a[2];
-    return e1y * e2z - e1z * e2y == 0.0f && e1z * e2x - e1x * e2z == 0.0f &&
-           e1x * e2y - e1y * e2x == 0.0f;
-}
-
 /* The leaf of lanes [g0, g0 + cnt): each lane's triangle (its id in the
  * lane) read from the scene into the lane (NaN when degenerate, as
  * rtc_pack writes it); *out their union. A triangle's own box goes into
@@ -65,7 +53,7 @@ static inline void deform_leaf(rt_dyn *d, tt_tri_block *blk, const float *tri, u
             hi[k] = rt_max(hi[k], rt_max(rt_max(v[k], v[3 + k]), v[6 + k]));
         }
 #endif
-        if (degenerate(v, v + 3, v + 6)) { /* rare: its box again, scalar */
+        if (rt_dyn_degenerate(v, v + 3, v + 6)) { /* rare: its box again, scalar */
             float *bx = d->tri_box + 6 * (size_t)id;
             for (int k = 0; k < 3; k++) {
                 bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
