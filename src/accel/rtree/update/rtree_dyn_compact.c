@@ -563,15 +563,17 @@ static void write_region(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint
 
 /* rtc_set_boxes's result (the entries' rows, the free mark past cnt) in
  * straight row copies the compiler vectorises: the general loop, a branch
- * per slot, was a seventh of an edits frame's sync. */
+ * per slot, was a seventh of an edits frame's sync. The free mark only on
+ * slots [cnt, old): every record, used or free, already holds it past its
+ * count field (old), as this writer and record_clear leave it. */
 static void set_boxes(const tt_rtc *c, float *rec, const float *box, uint32_t stride,
-                      uint32_t cnt)
+                      uint32_t cnt, uint32_t old)
 {
     const uint32_t S = c->S;
     for (uint32_t k = 0; k < 6; k++) {
         float *row = rec + k * S;
         memcpy(row, box + k * stride, cnt * sizeof(float));
-        for (uint32_t i = cnt; i < S; i++) row[i] = TT_INF;
+        for (uint32_t i = cnt; i < old; i++) row[i] = TT_INF;
     }
 }
 
@@ -586,7 +588,9 @@ static void write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32
     d->rec_of[n] = r;
     float *rec = (float *)tt_rtc_node(c, r);
     uint32_t *ref = (uint32_t *)(rec + 6 * c->S);
-    set_boxes(c, rec, rt_node_box(b, n), (uint32_t)b->cap, cnt);
+    /* the count the record at r holds now (a free record's is 0) */
+    const uint32_t was = ref[c->S + 1] & 0xffu, old = was < c->S ? was : c->S;
+    set_boxes(c, rec, rt_node_box(b, n), (uint32_t)b->cap, cnt, old);
     ref[c->S] = n == b->root ? TT_INVALID_ID : lay_pos(d, b->hdr[n].parent);
     ref[c->S + 1] = cnt | level << 8;
     d->last_records++;
@@ -603,7 +607,7 @@ static void write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32
     } else {
         write_region(d, c, scene, n, ref);
     }
-    for (uint32_t i = cnt; i < c->S; i++) ref[i] = TT_INVALID_ID;
+    for (uint32_t i = cnt; i < old; i++) ref[i] = TT_INVALID_ID;
 }
 
 /* A compaction: fresh arrays sized to the tree (with a quarter to grow
