@@ -23,6 +23,18 @@
  * and `treetrace info`). */
 #define RT_DYN_COMPACT_FREE 4
 
+/* tt_tri_is_degenerate's expression (the one rtc_pack stores a triangle
+ * as NaN by), inline for the update's lane writers: a call clobbered the
+ * deformation's leaf union kept in vector registers. Same flags as
+ * tri_block.c (generic, no contraction), so the same answer. */
+static inline int rt_dyn_degenerate(const float *a, const float *b, const float *c)
+{
+    const float e1x = b[0] - a[0], e1y = b[1] - a[1], e1z = b[2] - a[2];
+    const float e2x = c[0] - a[0], e2y = c[1] - a[1], e2z = c[2] - a[2];
+    return e1y * e2z - e1z * e2y == 0.0f && e1z * e2x - e1x * e2z == 0.0f &&
+           e1x * e2y - e1y * e2x == 0.0f;
+}
+
 typedef struct rt_dyn {
     rt_builder b;
     float *tri_box;      /* 6 floats an id: the box the tree holds it with  */
@@ -83,10 +95,12 @@ typedef struct rt_dyn {
     uint64_t compactions, last_records, last_blocks;
     double last_tree_s, last_layout_s;
     int must_repack; /* the layout's boxes predate the tree's (first update) */
-    /* the pointer tree's entry boxes predate the last deformation (which
-     * wrote only tri_box and the layout): refit from tri_box before use */
+    /* the pointer tree's entry boxes and tri_box predate the last
+     * deformation (which wrote the layout, and tri_box only for degenerate
+     * triangles): tri_box from the lanes and a refit before use */
     int boxes_stale;
     uint32_t *ids; /* an update's changed ids */
+    uint32_t *lev_rec, lev_cap; /* a deformation's records by level */
     size_t ids_cap;
 } rt_dyn;
 
@@ -136,11 +150,16 @@ void rt_dyn_release(rt_dyn *d, uint32_t n);
 void rt_dyn_touch(void *d, uint32_t n);
 
 /* A pure deformation (every live triangle in the tree, none added or
- * removed): boxes refit from the vertices, lanes and records written, in
- * one walk of the tree; the pointer tree's entry boxes are left stale
- * (boxes_stale). Returns 0 (nothing done) where the general path
- * must run: a lone leaf as root, or a layout still to be rewritten. */
+ * removed): boxes refit from the vertices, lanes and records written
+ * straight on the compact records, level by level (rtree_dyn_deform.c);
+ * the pointer tree's entry boxes are left stale (boxes_stale). Returns 0
+ * (nothing done) where the general path must run: a lone leaf as root, a
+ * layout still to be rewritten, or one not the slack layout. */
 int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads);
+/* After deformations (boxes_stale): tri_box of every id in a lane that is
+ * not degenerate from the lane's vertices (the deformation wrote only the
+ * degenerate ones' boxes), as of the last update. */
+void rt_dyn_boxes_from_lanes(rt_dyn *d, const rtc_tree *t);
 
 /* The whole update: the ids stamped after `since` (tt_accel_update). */
 tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *scene,

@@ -6,9 +6,6 @@
  * node record touches only them. */
 #include <math.h>
 #include <string.h>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 #include "accel/rtree/rtree_box.h"
 #include "accel/rtree/update/rtree_dyn.h"
@@ -153,6 +150,7 @@ void rt_dyn_free(tt_context *ctx, rt_dyn *d)
     tt_free(ctx, d->touched);
     tt_free(ctx, d->touch_list);
     tt_free(ctx, d->ids);
+    tt_free(ctx, d->lev_rec);
     memset(d, 0, sizeof *d);
 }
 
@@ -162,7 +160,7 @@ size_t rt_dyn_bytes(const rt_dyn *d)
     return (size_t)d->b.node_cap * (sizeof(rt_node_hdr) + cap * 7 * sizeof(float)) +
            d->id_cap * (6 * sizeof(float) + 2 * sizeof(uint32_t)) +
            (size_t)d->rec_cap * (3 * sizeof(uint32_t) + 2) + d->dirty_cap * sizeof(uint32_t) +
-           d->ids_cap * sizeof(uint32_t) +
+           (d->ids_cap + d->lev_cap) * sizeof(uint32_t) +
            /* the slack layout's room to grow, past what rtc_bytes counts */
            (d->slack ? (size_t)(d->lay_rec_cap - d->lay_rec_used) * d->lay_words * sizeof(float) +
                            (size_t)(d->lay_blk_cap - d->lay_blk_used) * sizeof(tt_tri_block)
@@ -231,7 +229,7 @@ void rt_dyn_write_lane(rt_dyn *d, rtc_tree *t, const tt_scene *scene, uint32_t i
     tt_tri_block *bk = (tt_tri_block *)t->c.block + g / TT_TRI_BLOCK_W;
     const uint32_t l = g % TT_TRI_BLOCK_W;
     const float *v = scene->tri + 9 * (size_t)id;
-    const int dead = tt_tri_is_degenerate(v, v + 3, v + 6); /* as rtc_pack writes it */
+    const int dead = rt_dyn_degenerate(v, v + 3, v + 6); /* as rtc_pack writes it */
     for (int q = 0; q < 9; q++) bk->v[q][l] = dead ? NAN : v[q];
 }
 
@@ -538,7 +536,7 @@ static void write_region(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint
             tt_tri_block *bk = (tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
             const uint32_t lane = (uint32_t)(g % TT_TRI_BLOCK_W);
             const float *v = scene->tri + 9 * (size_t)id[k];
-            const int dead = tt_tri_is_degenerate(v, v + 3, v + 6); /* as rtc_pack writes */
+            const int dead = rt_dyn_degenerate(v, v + 3, v + 6); /* as rtc_pack writes */
             for (int q = 0; q < 9; q++) bk->v[q][lane] = dead ? NAN : v[q];
             bk->prim[lane] = id[k];
             d->lane_of[id[k]] = (uint32_t)g;
@@ -565,15 +563,17 @@ static void write_region(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint
 
 /* rtc_set_boxes's result (the entries' rows, the free mark past cnt) in
  * straight row copies the compiler vectorises: the general loop, a branch
- * per slot, was a seventh of an edits frame's sync. */
+ * per slot, was a seventh of an edits frame's sync. The free mark only on
+ * slots [cnt, old): every record, used or free, already holds it past its
+ * count field (old), as this writer and record_clear leave it. */
 static void set_boxes(const tt_rtc *c, float *rec, const float *box, uint32_t stride,
-                      uint32_t cnt)
+                      uint32_t cnt, uint32_t old)
 {
     const uint32_t S = c->S;
     for (uint32_t k = 0; k < 6; k++) {
         float *row = rec + k * S;
         memcpy(row, box + k * stride, cnt * sizeof(float));
-        for (uint32_t i = cnt; i < S; i++) row[i] = TT_INF;
+        for (uint32_t i = cnt; i < old; i++) row[i] = TT_INF;
     }
 }
 
@@ -588,7 +588,9 @@ static void write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32
     d->rec_of[n] = r;
     float *rec = (float *)tt_rtc_node(c, r);
     uint32_t *ref = (uint32_t *)(rec + 6 * c->S);
-    set_boxes(c, rec, rt_node_box(b, n), (uint32_t)b->cap, cnt);
+    /* the count the record at r holds now (a free record's is 0) */
+    const uint32_t was = ref[c->S + 1] & 0xffu, old = was < c->S ? was : c->S;
+    set_boxes(c, rec, rt_node_box(b, n), (uint32_t)b->cap, cnt, old);
     ref[c->S] = n == b->root ? TT_INVALID_ID : lay_pos(d, b->hdr[n].parent);
     ref[c->S + 1] = cnt | level << 8;
     d->last_records++;
@@ -605,7 +607,7 @@ static void write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32
     } else {
         write_region(d, c, scene, n, ref);
     }
-    for (uint32_t i = cnt; i < c->S; i++) ref[i] = TT_INVALID_ID;
+    for (uint32_t i = cnt; i < old; i++) ref[i] = TT_INVALID_ID;
 }
 
 /* A compaction: fresh arrays sized to the tree (with a quarter to grow
@@ -737,132 +739,4 @@ tt_status rt_dyn_sync(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *s
     d->lay_blk_used = t->c.blocks;
     d->lay_words = t->c.words;
     return TT_OK;
-}
-
-/* ------------------------------------------ a deformation in one walk */
-
-/* Leaf n's triangles: boxes into tri_box, vertices into their lanes;
- * *out their union. The degenerate test (a call) first for all, so that
- * the bounds loop keeps its union in registers; with SSE2 a triangle's
- * three corners are three vector loads (same min / max per coordinate, so
- * the same boxes). */
-static inline void deform_leaf(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
-                               float out[6])
-{
-    const rt_builder *b = &d->b;
-    const uint32_t *ch = rt_node_child(b, n);
-    const int cnt = b->hdr[n].count;
-    uint32_t dead = 0; /* bit i: triangle i is stored as NaN (as rtc_pack writes it) */
-    for (int i = 0; i < cnt; i++) {
-        const float *v = scene->tri + 9 * (size_t)ch[i];
-        dead |= (uint32_t)(tt_tri_is_degenerate(v, v + 3, v + 6) != 0) << i;
-    }
-#if defined(__SSE2__)
-    __m128 lo = _mm_set1_ps(TT_INF), hi = _mm_set1_ps(-TT_INF);
-    for (int i = 0; i < cnt; i++) {
-        const uint32_t id = ch[i];
-        const float *src = scene->tri + 9 * (size_t)id;
-        float v[12];
-        memcpy(v, src, 9 * sizeof(float));
-        v[9] = v[10] = v[11] = 0.0f;
-        const __m128 p0 = _mm_loadu_ps(v), p1 = _mm_loadu_ps(v + 3), p2 = _mm_loadu_ps(v + 6);
-        const __m128 mn = _mm_min_ps(_mm_min_ps(p0, p1), p2);
-        const __m128 mx = _mm_max_ps(_mm_max_ps(p0, p1), p2);
-        lo = _mm_min_ps(lo, mn);
-        hi = _mm_max_ps(hi, mx);
-        float bx[8];
-        _mm_storeu_ps(bx, mn);
-        _mm_storeu_ps(bx + 3, mx);
-        memcpy(d->tri_box + 6 * (size_t)id, bx, 6 * sizeof(float));
-        const uint32_t g = d->lane_of[id];
-        tt_tri_block *bk = (tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
-        const uint32_t l = g % TT_TRI_BLOCK_W;
-        if (dead >> i & 1u)
-            for (int q = 0; q < 9; q++) bk->v[q][l] = NAN;
-        else
-            for (int q = 0; q < 9; q++) bk->v[q][l] = v[q];
-    }
-    float o[8];
-    _mm_storeu_ps(o, lo);
-    _mm_storeu_ps(o + 4, hi);
-    memcpy(out, o, 3 * sizeof(float));
-    memcpy(out + 3, o + 4, 3 * sizeof(float));
-#else
-    float lo[3] = {TT_INF, TT_INF, TT_INF}, hi[3] = {-TT_INF, -TT_INF, -TT_INF};
-    for (int i = 0; i < cnt; i++) {
-        const uint32_t id = ch[i];
-        float v[9], bx[6];
-        memcpy(v, scene->tri + 9 * (size_t)id, sizeof v);
-        for (int k = 0; k < 3; k++) {
-            bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
-            bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
-            lo[k] = rt_min(lo[k], bx[k]);
-            hi[k] = rt_max(hi[k], bx[k + 3]);
-        }
-        memcpy(d->tri_box + 6 * (size_t)id, bx, sizeof bx);
-        const uint32_t g = d->lane_of[id];
-        tt_tri_block *bk = (tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
-        const uint32_t l = g % TT_TRI_BLOCK_W;
-        for (int q = 0; q < 9; q++) bk->v[q][l] = dead >> i & 1u ? NAN : v[q];
-    }
-    memcpy(out, lo, sizeof lo);
-    memcpy(out + 3, hi, sizeof hi);
-#endif
-}
-
-/* Interior node n refit from the scene's vertices and written into the
- * layout in the same visit: its leaves' triangles get their boxes
- * (tri_box) and lanes, its record the boxes of its children; *out the
- * union of n's entries. One walk instead of four passes (bounds, refit,
- * lanes, records), each of which went over the whole tree or every id
- * once more. The pointer tree's own entry boxes are not written
- * (d->boxes_stale: the next update that needs them refits them from
- * tri_box first): in a run of deformations nothing reads them, and they
- * were a third of the walk's stores (a leaf of ~2 triangles spans six
- * cap-float rows). A record's slots past the count already hold the free
- * mark (the count does not change here). Leaves are visited inline from
- * their parent (no call a leaf), the union kept in locals. */
-static void deform_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
-                        float out[6])
-{
-    const rt_builder *b = &d->b;
-    const uint32_t *ch = rt_node_child(b, n);
-    const int cnt = b->hdr[n].count, leaves = b->hdr[n].level == 1;
-    float *rec = (float *)tt_rtc_node(c, d->rec_of[n]);
-    const uint32_t S = c->S;
-    float lo[3] = {TT_INF, TT_INF, TT_INF}, hi[3] = {-TT_INF, -TT_INF, -TT_INF};
-    for (int i = 0; i < cnt; i++) {
-        float cb[6];
-        if (leaves) deform_leaf(d, c, scene, ch[i], cb);
-        else deform_node(d, c, scene, ch[i], cb);
-        for (int k = 0; k < 3; k++) {
-            rec[k * S + (uint32_t)i] = cb[k];
-            rec[(k + 3) * S + (uint32_t)i] = cb[k + 3];
-            lo[k] = rt_min(lo[k], cb[k]);
-            hi[k] = rt_max(hi[k], cb[k + 3]);
-        }
-    }
-    memcpy(out, lo, sizeof lo);
-    memcpy(out + 3, hi, sizeof hi);
-}
-
-int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads)
-{
-    rt_builder *b = &d->b;
-    const uint32_t root = b->root;
-    if (b->hdr[root].level == 0 || d->must_repack) return 0; /* the general path */
-    const tt_rtc *c = &t->c;
-    const uint32_t *ch = rt_node_child(b, root);
-    const int cnt = b->hdr[root].count;
-    float *rec = (float *)tt_rtc_node(c, d->rec_of[root]);
-    const uint32_t S = c->S;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (int i = 0; i < cnt; i++) {
-        float cb[6];
-        if (b->hdr[root].level == 1) deform_leaf(d, c, scene, ch[i], cb);
-        else deform_node(d, c, scene, ch[i], cb);
-        for (int k = 0; k < 6; k++) rec[(uint32_t)k * S + (uint32_t)i] = cb[k];
-    }
-    d->boxes_stale = 1;
-    return 1;
 }

@@ -96,9 +96,11 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
         return TT_OK;
     }
 
-    /* the pointer tree's boxes after deformations: from tri_box (as of
-     * the last update), before anything reads or grows them */
+    /* the pointer tree's boxes after deformations: tri_box from the lanes
+     * and the boxes from tri_box (as of the last update), before anything
+     * reads or grows them */
     if (d->boxes_stale) {
+        rt_dyn_boxes_from_lanes(d, t);
         rt_dyn_refit_all(d);
         d->boxes_stale = 0;
     }

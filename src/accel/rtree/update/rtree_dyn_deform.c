@@ -1,0 +1,173 @@
+/* A pure deformation (rtree_dyn.h, rt_dyn_deform): every triangle moved,
+ * none added or removed, so the tree keeps its shape and only boxes and
+ * lanes change. It works on the compact records themselves, level by
+ * level, without the pointer tree: every leaf hangs from a level-1 record
+ * (an R-tree), so the level-1 records are independent of each other (each
+ * owns its region of blocks in the slack layout) and are refit in
+ * parallel straight from their leaves' lanes, which name their triangles;
+ * then each level above from the boxes of its children's records. The
+ * pointer walk it replaces spent most of its instructions on the walk
+ * itself (headers, child arrays, a call per leaf) rather than on the
+ * triangles, and shared its work out only by the root's few subtrees. */
+#include <math.h>
+#include <string.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+#include "accel/rtree/rtree_box.h"
+#include "accel/rtree/update/rtree_dyn.h"
+
+/* The leaf of lanes [g0, g0 + cnt): each lane's triangle (its id in the
+ * lane) read from the scene into the lane (NaN when degenerate, as
+ * rtc_pack writes it); *out their union. A triangle's own box goes into
+ * tri_box only when it is degenerate: the others' are in their lanes and
+ * rt_dyn_boxes_from_lanes takes them from there when an update needs them
+ * (a run of deformations never does; the stores were a tenth of the
+ * walk's instructions and a megabyte and a half of writes a frame on the
+ * bunny). */
+static inline void deform_leaf(rt_dyn *d, tt_tri_block *blk, const float *tri, uint64_t g0,
+                               uint32_t cnt, float out[6])
+{
+#if defined(__SSE2__)
+    __m128 lo = _mm_set1_ps(TT_INF), hi = _mm_set1_ps(-TT_INF);
+#else
+    float lo[3] = {TT_INF, TT_INF, TT_INF}, hi[3] = {-TT_INF, -TT_INF, -TT_INF};
+#endif
+    for (uint64_t g = g0; g < g0 + cnt; g++) {
+        tt_tri_block *bk = blk + g / TT_TRI_BLOCK_W;
+        const uint32_t l = (uint32_t)(g % TT_TRI_BLOCK_W), id = bk->prim[l];
+        float v[12];
+        memcpy(v, tri + 9 * (size_t)id, 9 * sizeof(float));
+        v[9] = v[10] = v[11] = 0.0f;
+#if defined(__SSE2__)
+        /* a corner a vector load: the same min / max per coordinate */
+        const __m128 p0 = _mm_loadu_ps(v), p1 = _mm_loadu_ps(v + 3), p2 = _mm_loadu_ps(v + 6);
+        const __m128 mn = _mm_min_ps(_mm_min_ps(p0, p1), p2);
+        const __m128 mx = _mm_max_ps(_mm_max_ps(p0, p1), p2);
+        lo = _mm_min_ps(lo, mn);
+        hi = _mm_max_ps(hi, mx);
+#else
+        for (int k = 0; k < 3; k++) {
+            lo[k] = rt_min(lo[k], rt_min(rt_min(v[k], v[3 + k]), v[6 + k]));
+            hi[k] = rt_max(hi[k], rt_max(rt_max(v[k], v[3 + k]), v[6 + k]));
+        }
+#endif
+        if (rt_dyn_degenerate(v, v + 3, v + 6)) { /* rare: its box again, scalar */
+            float *bx = d->tri_box + 6 * (size_t)id;
+            for (int k = 0; k < 3; k++) {
+                bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
+                bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
+            }
+            for (int q = 0; q < 9; q++) bk->v[q][l] = NAN;
+        } else {
+            for (int q = 0; q < 9; q++) bk->v[q][l] = v[q];
+        }
+    }
+#if defined(__SSE2__)
+    float o[8];
+    _mm_storeu_ps(o, lo);
+    _mm_storeu_ps(o + 4, hi);
+    memcpy(out, o, 3 * sizeof(float));
+    memcpy(out + 3, o + 4, 3 * sizeof(float));
+#else
+    memcpy(out, lo, sizeof lo);
+    memcpy(out + 3, hi, sizeof hi);
+#endif
+}
+
+/* Level-1 record r: its leaves refit, their boxes into its rows. */
+static void deform_record(rt_dyn *d, const tt_rtc *c, const float *tri, uint32_t r)
+{
+    float *rec = (float *)tt_rtc_node(c, r);
+    const uint32_t *ref = tt_rtc_child(c, rec);
+    const uint32_t cnt = tt_rtc_count(c, rec), S = c->S;
+    tt_tri_block *blk = (tt_tri_block *)c->block;
+    for (uint32_t i = 0; i < cnt; i++) {
+        float cb[6];
+        const uint64_t g0 =
+            (uint64_t)tt_rtc_leaf_block(ref[i]) * TT_TRI_BLOCK_W + tt_rtc_leaf_lane(ref[i]);
+        deform_leaf(d, blk, tri, g0, tt_rtc_leaf_count(ref[i]), cb);
+        for (uint32_t k = 0; k < 6; k++) rec[k * S + i] = cb[k];
+    }
+}
+
+/* Record r above level 1: entry i's box the union of child record i's
+ * entries (a record's slots past its count already hold the free mark,
+ * and the count does not change here). */
+static void refit_record(const tt_rtc *c, uint32_t r)
+{
+    float *rec = (float *)tt_rtc_node(c, r);
+    const uint32_t *ref = tt_rtc_child(c, rec);
+    const uint32_t cnt = tt_rtc_count(c, rec), S = c->S;
+    for (uint32_t i = 0; i < cnt; i++) {
+        const float *cr = tt_rtc_node(c, ref[i]);
+        const uint32_t cc = tt_rtc_count(c, cr);
+        for (uint32_t k = 0; k < 3; k++) {
+            const float *rl = cr + k * S, *rh = cr + (k + 3) * S;
+            float lo = TT_INF, hi = -TT_INF;
+            for (uint32_t j = 0; j < cc; j++) {
+                lo = rt_min(lo, rl[j]);
+                hi = rt_max(hi, rh[j]);
+            }
+            rec[k * S + i] = lo;
+            rec[(k + 3) * S + i] = hi;
+        }
+    }
+}
+
+int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads)
+{
+    rt_builder *b = &d->b;
+    const tt_rtc *c = &t->c;
+    /* the general path: a lone leaf as root, a layout still to be written,
+     * or the packer's layout (whose level-1 nodes may share blocks) */
+    if (b->hdr[b->root].level == 0 || d->must_repack || !d->slack) return 0;
+    const uint32_t nodes = c->nodes, height = c->height;
+    if (height == 0 || height > 255) return 0;
+    /* the used records by level (free ones have level 0): counting sort */
+    if (nodes > d->lev_cap) {
+        uint32_t *l = tt_realloc_array(b->ctx, d->lev_rec, nodes, sizeof *l);
+        if (!l) return 0; /* the general path needs no buffer */
+        d->lev_rec = l;
+        d->lev_cap = nodes;
+    }
+    uint32_t start[257] = {0};
+    for (uint32_t r = 0; r < nodes; r++) start[tt_rtc_level(c, tt_rtc_node(c, r)) + 1]++;
+    for (uint32_t k = 1; k <= 256; k++) start[k] += start[k - 1];
+    uint32_t fill[256];
+    memcpy(fill, start, sizeof fill);
+    for (uint32_t r = 0; r < nodes; r++) {
+        const uint32_t lv = tt_rtc_level(c, tt_rtc_node(c, r));
+        if (lv) d->lev_rec[fill[lv]++] = r;
+    }
+    const uint32_t *lev = d->lev_rec;
+    const float *tri = scene->tri;
+    const long n1 = (long)(start[2] - start[1]);
+    /* level 1: the leaves, on the threads (regions are disjoint) */
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+    for (long k = 0; k < n1; k++) deform_record(d, c, tri, lev[start[1] + (uint32_t)k]);
+    /* above: few records (a sixteenth per level), one thread */
+    for (uint32_t lv = 2; lv <= height; lv++)
+        for (uint32_t k = start[lv]; k < start[lv + 1]; k++) refit_record(c, lev[k]);
+    d->boxes_stale = 1;
+    return 1;
+}
+
+void rt_dyn_boxes_from_lanes(rt_dyn *d, const rtc_tree *t)
+{
+    const tt_rtc *c = &t->c;
+    for (uint32_t j = 0; j < c->blocks; j++) {
+        const tt_tri_block *bk = &c->block[j];
+        for (uint32_t l = 0; l < TT_TRI_BLOCK_W; l++) {
+            const uint32_t id = bk->prim[l];
+            /* no triangle, or a degenerate one (its box is in tri_box) */
+            if (id == TT_INVALID_ID || id >= d->id_cap || isnan(bk->v[0][l])) continue;
+            float *bx = d->tri_box + 6 * (size_t)id;
+            for (int k = 0; k < 3; k++) {
+                bx[k] = rt_min(rt_min(bk->v[k][l], bk->v[3 + k][l]), bk->v[6 + k][l]);
+                bx[k + 3] = rt_max(rt_max(bk->v[k][l], bk->v[3 + k][l]), bk->v[6 + k][l]);
+            }
+        }
+    }
+}
