@@ -102,13 +102,6 @@ typedef struct pk_rays {
     uint32_t nrow[3], frow[3]; /* the octant's near / far bound rows (0..5) */
     int ia;                    /* interval test usable (finite reciprocals) */
     float omin[3], omax[3], rmin[3], rmax[3], tmin_min;
-    /* the frustum from the rays' common far end (rtc_pk_frustum): used
-     * (fr) when the ends bunch tighter than the origins; per axis the
-     * widened end box, the reciprocal range of org - end, and whether the
-     * axis constrains at all (the range excludes 0) */
-    int fr;
-    uint32_t fax[3];
-    float elo[3], ehi[3], qlo[3], qhi[3];
 } pk_rays;
 
 /* A node waiting on the stack with its active rays. */
@@ -259,50 +252,6 @@ TT_RT_INLINE uint32_t TT_VARIANT(RTC_FN(rtc_pk_interval))(const pk_rays *P, cons
     return keep;
 }
 
-/* The frustum test of all S children of node record rec, for rays that
- * end near one point (shadow rays to a point light). Ray i's segment
- * org_i + t dir_i, t in [0, tmax_i], is in exact arithmetic
- * e_i + s (org_i - e_i), s in [0, 1], with e_i = org_i + tmax_i dir_i its
- * end. So every segment lies in { e + s D : e in E, D in Q, 0 <= s <= 1 },
- * E a box around the ends and Q a box around the org_i - e (rtc_pk_load
- * widens both past every rounding), and a child box that this set misses
- * holds no triangle any ray can hit. Per axis, interval arithmetic bounds
- * the s at which the set meets the box's slab from below and above
- * (1/D keeps one sign over Q: the axes where it does not are skipped,
- * which only accepts more); the bounds meet [0, 1] and each other with a
- * relative slack of 2^-20 for the rounding of the subtraction and product.
- * With E a point this is the frustum of a camera packet, apex at the
- * light: a run of shadow rays towards one point culls like one.
- * tn_out gets -s_far (larger s is nearer the origins: near to far). */
-TT_RT_INLINE uint32_t TT_VARIANT(RTC_FN(rtc_pk_frustum))(const pk_rays *P, const float *rec, uint32_t S,
-                                                        float *tn_out)
-{
-    uint32_t keep = 0;
-    const float c = 1.0f / 1048576.0f;
-    for (uint32_t i = 0; i < S; i += PK_L) {
-        pk_v sn = PK_SET1(0.0f), sf = PK_SET1(1.0f);
-        for (uint32_t k = 0; k < 3; k++) {
-            if (!P->fax[k]) continue;
-            /* R = 1/D > 0: the slab's low plane is met first; the least s
-             * is (lo - ehi) R at an end of R's range, the largest
-             * (hi - elo) R. R < 0: the high plane first, the ends swap. */
-            const int pos = P->qlo[k] > 0.0f;
-            const pk_v rlo = PK_SET1(P->qlo[k]), rhi = PK_SET1(P->qhi[k]);
-            const pk_v bn = PK_LOADU(tt_rtc_boxes(rec) + (pos ? k : k + 3) * S + i);
-            const pk_v bf = PK_LOADU(tt_rtc_boxes(rec) + (pos ? k + 3 : k) * S + i);
-            const pk_v dn = PK_SUB(bn, PK_SET1(pos ? P->ehi[k] : P->elo[k]));
-            const pk_v df = PK_SUB(bf, PK_SET1(pos ? P->elo[k] : P->ehi[k]));
-            sn = PK_MAX(PK_MIN(PK_MUL(dn, rlo), PK_MUL(dn, rhi)), sn);
-            sf = PK_MIN(PK_MAX(PK_MUL(df, rlo), PK_MUL(df, rhi)), sf);
-        }
-        sn = PK_SUB(sn, PK_MUL(PK_ABS(sn), PK_SET1(c)));
-        sf = PK_ADD(sf, PK_MUL(PK_ABS(sf), PK_SET1(c)));
-        PK_STOREU(tn_out + i, PK_SUB(PK_SET1(0.0f), sf));
-        keep |= (PK_BITS(PK_CMP_GT(sn, sf)) ^ ((1u << PK_L) - 1u)) << i;
-    }
-    return keep;
-}
-
 /* The packet's walk: near to far, like the single-ray stack traversal. */
 TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, const uint32_t S,
                                                   const int any, pk_rays *P,
@@ -350,10 +299,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
         /* the interval test's entry distance of each child, for the packet */
         float tpk[TT_RT_MAX_M];
         const int itest = P->ia && S % PK_L == 0;
-        if (itest) {
-            if (P->fr) cand &= TT_VARIANT(RTC_FN(rtc_pk_frustum))(P, rec, S, tpk);
-            else cand &= TT_VARIANT(RTC_FN(rtc_pk_interval))(P, rec, S, tpk);
-        }
+        if (itest) cand &= TT_VARIANT(RTC_FN(rtc_pk_interval))(P, rec, S, tpk);
         /* Occlusion asks any hit, not the nearest: a child's rays need only
          * the overlap test, and the children go near to far by the
          * packet's interval entry (as good an order, and free), not by a
@@ -507,53 +453,6 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
     }
 }
 
-/* The frustum of rtc_pk_frustum, when the rays' far ends bunch tighter
- * than their origins (after rtc_pk_load's origin bounds). */
-TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_ends))(pk_rays *P, uint32_t n)
-{
-    P->fr = 0;
-    float lo[3] = {TT_INF, TT_INF, TT_INF}, hi[3] = {-TT_INF, -TT_INF, -TT_INF};
-    for (uint32_t i = 0; i < n; i++) {
-        const tt_wray *r = P->ray[i];
-        for (int k = 0; k < 3; k++) {
-            const float e = r->org[k] + r->tmax * r->dir[k];
-            lo[k] = e < lo[k] ? e : lo[k];
-            hi[k] = e > hi[k] ? e : hi[k];
-        }
-    }
-    /* every end finite (an infinite tmax gives inf or NaN) */
-    float mag = 0.0f, espan = 0.0f, ospan = 0.0f;
-    for (int k = 0; k < 3; k++) {
-        if (!(hi[k] - lo[k] < TT_INF)) return;
-        mag = fmaxf(mag, fmaxf(fmaxf(fabsf(lo[k]), fabsf(hi[k])),
-                               fmaxf(fabsf(P->omin[k]), fabsf(P->omax[k]))));
-        espan = fmaxf(espan, hi[k] - lo[k]);
-        ospan = fmaxf(ospan, P->omax[k] - P->omin[k]);
-    }
-    if (!(espan < ospan)) return;
-    /* the float end is within a few ulps of the exact org + tmax dir, and
-     * a box that the exact segment misses by a rounding's width may still
-     * hold a triangle the watertight test hits: E grows by 2^-18 of the
-     * largest coordinate involved (hundreds of ulps) */
-    const float eps = mag * (1.0f / 262144.0f);
-    const float c = 1.0f / 1048576.0f;
-    for (int k = 0; k < 3; k++) {
-        P->elo[k] = lo[k] - eps;
-        P->ehi[k] = hi[k] + eps;
-        /* D = org - e over the widened boxes, rounding outwards */
-        float dlo = P->omin[k] - P->ehi[k], dhi = P->omax[k] - P->elo[k];
-        dlo -= fabsf(dlo) * c;
-        dhi += fabsf(dhi) * c;
-        P->fax[k] = dlo > 0.0f || dhi < 0.0f;
-        if (!P->fax[k]) continue;
-        /* 1/D falls on each side of 0: R in [1/dhi, 1/dlo] */
-        float qlo = 1.0f / dhi, qhi = 1.0f / dlo;
-        P->qlo[k] = qlo - fabsf(qlo) * c;
-        P->qhi[k] = qhi + fabsf(qhi) * c;
-    }
-    P->fr = P->fax[0] | P->fax[1] | P->fax[2];
-}
-
 /* Loads the rays idx[0..n) of rays[] into P (one octant). */
 TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_wray *rays, const uint32_t *idx,
                                       uint32_t n)
@@ -608,7 +507,6 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_wray *ray
         P->rmax[k] = PK_HMAX(rhi);
     }
     P->tmin_min = PK_HMIN(tlo);
-    TT_VARIANT(RTC_FN(rtc_pk_ends))(P, n);
     /* finite reciprocals (the batch's rays have no NaN) */
     P->ia = PK_HMAX(mag) < TT_INF;
     for (uint32_t g = 0; g < P->groups; g++) {
