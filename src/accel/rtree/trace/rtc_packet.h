@@ -102,6 +102,7 @@ typedef struct pk_rays {
     uint32_t nrow[3], frow[3]; /* the octant's near / far bound rows (0..5) */
     int ia;                    /* interval test usable (finite reciprocals) */
     float omin[3], omax[3], rmin[3], rmax[3], tmin_min;
+    float tcut_max; /* no ray's test keeps a box entered beyond it */
 } pk_rays;
 
 /* A node waiting on the stack with its active rays. */
@@ -234,7 +235,7 @@ TT_RT_INLINE uint32_t TT_VARIANT(RTC_FN(rtc_pk_interval))(const pk_rays *P, cons
     uint32_t keep = 0;
     const float c1 = 1.0f / 4194304.0f;
     for (uint32_t i = 0; i < S; i += PK_L) {
-        pk_v tn = PK_SET1(P->tmin_min), tf = PK_SET1(TT_INF);
+        pk_v tn = PK_SET1(P->tmin_min), tf = PK_SET1(P->tcut_max);
         for (int k = 0; k < 3; k++) {
             const int neg = P->nrow[k] != (uint32_t)k;
             const pk_v rlo = PK_SET1(P->rmin[k]), rhi = PK_SET1(P->rmax[k]);
@@ -490,7 +491,11 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_wray *ray
     const float *const orow[3] = {P->ox, P->oy, P->oz}, *const rrow[3] = {P->rx, P->ry, P->rz};
     const pk_v inf = PK_SET1(TT_INF), ninf = PK_SET1(-TT_INF);
     pk_v mag = PK_SET1(0.0f), tlo = inf;
-    for (uint32_t o = 0; o < P->groups * PK_L; o += PK_L) tlo = PK_MIN(PK_LOAD(P->tmin + o), tlo);
+    pk_v thi = PK_SET1(0.0f);
+    for (uint32_t o = 0; o < P->groups * PK_L; o += PK_L) {
+        tlo = PK_MIN(PK_LOAD(P->tmin + o), tlo);
+        thi = PK_MAX(PK_LOAD(P->tcut + o), thi);
+    }
     for (uint32_t k = 0; k < 3; k++) {
         pk_v olo = inf, ohi = ninf, rlo = inf, rhi = ninf;
         for (uint32_t o = 0; o < P->groups * PK_L; o += PK_L) {
@@ -507,6 +512,11 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_wray *ray
         P->rmax[k] = PK_HMAX(rhi);
     }
     P->tmin_min = PK_HMIN(tlo);
+    /* a ray's own test keeps a box only where tn - |tn| 2^-16 < t <= tmax
+     * (or, occlusion, tn <= tcut): so tn <= tcut of some ray, and the
+     * packet's far bound starts at the largest tcut, not infinity (shadow
+     * rays: boxes past the light go) */
+    P->tcut_max = PK_HMAX(thi);
     /* finite reciprocals (the batch's rays have no NaN) */
     P->ia = PK_HMAX(mag) < TT_INF;
     for (uint32_t g = 0; g < P->groups; g++) {
