@@ -276,12 +276,10 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
         const uint32_t *child = tt_rtc_child(t, rec);
         if (any) {
             /* rays answered since this entry was pushed drop out; with
-             * none left the entry is skipped, with none in the packet the
-             * walk ends */
-            uint32_t live = 0, left = 0;
+             * none left the entry is skipped (the walk ends when the
+             * packet has none: checked after the leaves, which answer) */
+            uint32_t live = 0;
             for (uint32_t g = cur.g0; g <= cur.g1; g++) live |= cur.m[g] &= ~P->done[g];
-            for (uint32_t g = 0; g < P->groups; g++) left |= P->valid[g] & ~P->done[g];
-            if (!left) return;
             if (!live) goto pop;
         }
 #if TT_STATS
@@ -428,6 +426,11 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                         TT_COUNT(stats, rays.triangles, (uint64_t)TT_TRI_BLOCK_W * pk_popcount(m));
                         TT_VARIANT(RTC_FN(rtc_pk_block))(P, any, g, m, b);
                     }
+                }
+                if (any) {
+                    uint32_t left = 0;
+                    for (uint32_t g = 0; g < P->groups; g++) left |= P->valid[g] & ~P->done[g];
+                    if (!left) return;
                 }
             } else {
                 for (uint32_t j = nh - 1; j > 0; j--) {
