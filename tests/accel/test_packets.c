@@ -158,6 +158,29 @@ static tt_ray *view_rays(const tt_accel *ref, const tt_scene *scene, const tt_ca
     return rays;
 }
 
+/* Shadow rays whose far end sits on their first occluder: tmax is the
+ * closest hit's t, one float above or below it, or the shadow ray's own, by
+ * ray index. Occlusion packets cull boxes by the rays' tmax (tcut and the
+ * packet's far bound in rtc_packet.h): an occluder at the very end of a
+ * ray must be found exactly when the single ray finds it. */
+static tt_ray *shadow_edge_rays(const tt_accel *ref, const tt_ray *shadow, size_t n)
+{
+    tt_ray *rays = malloc((n ? n : 1) * sizeof *rays);
+    if (!rays) exit(1);
+    for (size_t i = 0; i < n; i++) {
+        tt_ray r = shadow[i];
+        tt_hit h;
+        r.tmax = INFINITY;
+        tt_intersect1(ref, &r, &h);
+        rays[i] = shadow[i];
+        if (h.prim == TT_INVALID_ID) continue;
+        if (i % 4 == 0) rays[i].tmax = h.t;
+        if (i % 4 == 1) rays[i].tmax = nextafterf(h.t, INFINITY);
+        if (i % 4 == 2) rays[i].tmax = nextafterf(h.t, 0.0f);
+    }
+    return rays;
+}
+
 /* Hostile rays in tiles of 16 x 16: tile kinds by tile index. */
 static tt_ray *hostile_rays(const tt_scene *scene, const tt_camera *cam, size_t *n_out)
 {
@@ -265,6 +288,7 @@ static void scene_view(tt_context *ctx, const char *file, const char *view, int 
     tt_ray *shadow = NULL;
     tt_ray *primary = view_rays(bf, scene, &cam, &n_shadow, &shadow);
     tt_ray *hostile = hostile_rays(scene, &cam, &n_hostile);
+    tt_ray *edges = shadow_edge_rays(bf, shadow, n_shadow);
     static const char *names[] = {"rtree", "kdtree", "bruteforce"};
     for (size_t s = 0; s < sizeof names / sizeof names[0]; s++) {
         if (!tt_test_has_accel(names[s])) continue;
@@ -283,6 +307,9 @@ static void scene_view(tt_context *ctx, const char *file, const char *view, int 
             check_rays(a, primary, (size_t)SIZE * SIZE, SIZE, what);
             snprintf(what, sizeof what, "%s %s shadow", view, tt_isa_name((tt_isa)isa));
             check_rays(a, shadow, n_shadow, 0, what);
+            snprintf(what, sizeof what, "%s %s shadow ending on occluders", view,
+                     tt_isa_name((tt_isa)isa));
+            check_rays(a, edges, n_shadow, 0, what);
             snprintf(what, sizeof what, "%s %s hostile", view, tt_isa_name((tt_isa)isa));
             check_rays(a, hostile, n_hostile, SIZE, what);
             snprintf(what, sizeof what, "%s %s %s render", tt_accel_name(a), view,
@@ -294,6 +321,7 @@ static void scene_view(tt_context *ctx, const char *file, const char *view, int 
     free(primary);
     free(shadow);
     free(hostile);
+    free(edges);
     tt_accel_destroy(bf);
     tt_scene_destroy(scene);
 }

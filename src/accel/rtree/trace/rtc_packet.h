@@ -87,6 +87,7 @@ typedef struct pk_rays {
     _Alignas(64) float rz[PK_N];
     _Alignas(64) float tmin[PK_N];
     _Alignas(64) float t[PK_N];
+    _Alignas(64) float tcut[PK_N]; /* occlusion: t widened by 2^-15, see rtc_pk_walk */
     _Alignas(64) float u[PK_N];
     _Alignas(64) float v[PK_N];
     _Alignas(64) float sx[PK_N];
@@ -101,6 +102,7 @@ typedef struct pk_rays {
     uint32_t nrow[3], frow[3]; /* the octant's near / far bound rows (0..5) */
     int ia;                    /* interval test usable (finite reciprocals) */
     float omin[3], omax[3], rmin[3], rmax[3], tmin_min;
+    float tcut_max; /* no ray's test keeps a box entered beyond it */
 } pk_rays;
 
 /* A node waiting on the stack with its active rays. */
@@ -227,12 +229,13 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_block))(pk_rays *P, const int any, ui
 
 /* The interval test of all S children of node record rec against the
  * packet's bounds: bit i clear where no ray of the packet can hit child i. */
-TT_RT_INLINE uint32_t TT_VARIANT(RTC_FN(rtc_pk_interval))(const pk_rays *P, const float *rec, uint32_t S)
+TT_RT_INLINE uint32_t TT_VARIANT(RTC_FN(rtc_pk_interval))(const pk_rays *P, const float *rec, uint32_t S,
+                                                         float *tn_out)
 {
     uint32_t keep = 0;
     const float c1 = 1.0f / 4194304.0f;
     for (uint32_t i = 0; i < S; i += PK_L) {
-        pk_v tn = PK_SET1(P->tmin_min), tf = PK_SET1(TT_INF);
+        pk_v tn = PK_SET1(P->tmin_min), tf = PK_SET1(P->tcut_max);
         for (int k = 0; k < 3; k++) {
             const int neg = P->nrow[k] != (uint32_t)k;
             const pk_v rlo = PK_SET1(P->rmin[k]), rhi = PK_SET1(P->rmax[k]);
@@ -244,6 +247,7 @@ TT_RT_INLINE uint32_t TT_VARIANT(RTC_FN(rtc_pk_interval))(const pk_rays *P, cons
             tf = PK_MIN(PK_MAX(PK_MUL(df, rlo), PK_MUL(df, rhi)), tf);
         }
         tf = PK_ADD(tf, PK_MUL(PK_ABS(tf), PK_SET1(c1)));
+        PK_STOREU(tn_out + i, tn);
         keep |= (PK_BITS(PK_CMP_GT(tn, tf)) ^ ((1u << PK_L) - 1u)) << i;
     }
     return keep;
@@ -272,12 +276,10 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
         const uint32_t *child = tt_rtc_child(t, rec);
         if (any) {
             /* rays answered since this entry was pushed drop out; with
-             * none left the entry is skipped, with none in the packet the
-             * walk ends */
-            uint32_t live = 0, left = 0;
+             * none left the entry is skipped (the walk ends when the
+             * packet has none: checked after the leaves, which answer) */
+            uint32_t live = 0;
             for (uint32_t g = cur.g0; g <= cur.g1; g++) live |= cur.m[g] &= ~P->done[g];
-            for (uint32_t g = 0; g < P->groups; g++) left |= P->valid[g] & ~P->done[g];
-            if (!left) return;
             if (!live) goto pop;
         }
 #if TT_STATS
@@ -293,7 +295,18 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
         }
 #endif
         uint32_t cand = tt_rtc_used(t, rec);
-        if (P->ia && S % PK_L == 0) cand &= TT_VARIANT(RTC_FN(rtc_pk_interval))(P, rec, S);
+        /* the interval test's entry distance of each child, for the packet */
+        float tpk[TT_RT_MAX_M];
+        const int itest = P->ia && S % PK_L == 0;
+        if (itest) cand &= TT_VARIANT(RTC_FN(rtc_pk_interval))(P, rec, S, tpk);
+        /* Occlusion asks any hit, not the nearest: a child's rays need only
+         * the overlap test, and the children go near to far by the
+         * packet's interval entry (as good an order, and free), not by a
+         * per-ray entry reduced across lanes. A ray's t is its tmax for
+         * the whole walk (answered rays leave the masks instead), so
+         * "entry < t" folds into the far bound as tcut (rtc_pk_load):
+         * every child the full test keeps, this one keeps. */
+        const int lean = any && itest;
         /* the hit children, their rays and nearest entry */
         uint32_t nh = 0, ord[TT_RT_MAX_M];
         float ot[TT_RT_MAX_M];
@@ -322,6 +335,16 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                 const pk_v tfy = PK_MUL(PK_SUB(bfy, oy), iy);
                 const pk_v tfz = PK_MUL(PK_SUB(bfz, oz), iz);
                 const pk_v tn = PK_MAX(tnz, PK_MAX(tny, PK_MAX(tnx, PK_LOAD(P->tmin + o))));
+                if (lean) {
+                    const pk_v tc = PK_MIN(tfz, PK_MIN(tfy, PK_MIN(tfx, PK_LOAD(P->tcut + o))));
+                    const pk_v tfc = PK_ADD(tc, PK_MUL(PK_ABS(tc), PK_SET1(c1)));
+                    const uint32_t h = PK_BITS(PK_CMP_LE(tn, tfc)) & m;
+                    if (!h) continue;
+                    mk[g] = h;
+                    if (g < g0) g0 = g;
+                    g1 = g;
+                    continue;
+                }
                 const pk_v tf0 = PK_MIN(tfz, PK_MIN(tfy, PK_MIN(tfx, inf)));
                 const pk_v tf = PK_ADD(tf0, PK_MUL(PK_ABS(tf0), PK_SET1(c1)));
                 const pk_v entry = PK_SUB(tn, PK_MUL(PK_ABS(tn), PK_SET1(c2)));
@@ -334,7 +357,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                 g1 = g;
             }
             if (g0 == PK_G) continue;
-            const float te = PK_HMIN(vmin);
+            const float te = lean ? tpk[c] : PK_HMIN(vmin);
             cg0[nh] = g0;
             cg1[nh] = g1;
             uint32_t j = nh++;
@@ -404,6 +427,11 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                         TT_VARIANT(RTC_FN(rtc_pk_block))(P, any, g, m, b);
                     }
                 }
+                if (any) {
+                    uint32_t left = 0;
+                    for (uint32_t g = 0; g < P->groups; g++) left |= P->valid[g] & ~P->done[g];
+                    if (!left) return;
+                }
             } else {
                 for (uint32_t j = nh - 1; j > 0; j--) {
                     const uint32_t s = ord[j];
@@ -451,6 +479,9 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_wray *ray
         P->rz[i] = r->rcp[2];
         P->tmin[i] = r->tmin;
         P->t[i] = r->tmax;
+        /* "tn - |tn| 2^-16 < t" (the full test's entry) implies
+         * tn <= tcut, for t >= 0 */
+        P->tcut[i] = r->tmax + fabsf(r->tmax) * (1.0f / 32768.0f);
         P->u[i] = P->v[i] = 0.0f;
         P->prim[i] = TT_INVALID_ID;
         P->sx[i] = r->sx;
@@ -463,7 +494,11 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_wray *ray
     const float *const orow[3] = {P->ox, P->oy, P->oz}, *const rrow[3] = {P->rx, P->ry, P->rz};
     const pk_v inf = PK_SET1(TT_INF), ninf = PK_SET1(-TT_INF);
     pk_v mag = PK_SET1(0.0f), tlo = inf;
-    for (uint32_t o = 0; o < P->groups * PK_L; o += PK_L) tlo = PK_MIN(PK_LOAD(P->tmin + o), tlo);
+    pk_v thi = PK_SET1(0.0f);
+    for (uint32_t o = 0; o < P->groups * PK_L; o += PK_L) {
+        tlo = PK_MIN(PK_LOAD(P->tmin + o), tlo);
+        thi = PK_MAX(PK_LOAD(P->tcut + o), thi);
+    }
     for (uint32_t k = 0; k < 3; k++) {
         pk_v olo = inf, ohi = ninf, rlo = inf, rhi = ninf;
         for (uint32_t o = 0; o < P->groups * PK_L; o += PK_L) {
@@ -480,6 +515,11 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_wray *ray
         P->rmax[k] = PK_HMAX(rhi);
     }
     P->tmin_min = PK_HMIN(tlo);
+    /* a ray's own test keeps a box only where tn - |tn| 2^-16 < t <= tmax
+     * (or, occlusion, tn <= tcut): so tn <= tcut of some ray, and the
+     * packet's far bound starts at the largest tcut, not infinity (shadow
+     * rays: boxes past the light go) */
+    P->tcut_max = PK_HMAX(thi);
     /* finite reciprocals (the batch's rays have no NaN) */
     P->ia = PK_HMAX(mag) < TT_INF;
     for (uint32_t g = 0; g < P->groups; g++) {

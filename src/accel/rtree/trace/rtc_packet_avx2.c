@@ -15,6 +15,7 @@ typedef __m256 pk_v;
 typedef __m256 pk_m;
 #define PK_LOAD(p) _mm256_load_ps(p)
 #define PK_LOADU(p) _mm256_loadu_ps(p)
+#define PK_STOREU(p, x) _mm256_storeu_ps(p, x)
 #define PK_STORE(p, x) _mm256_store_ps(p, x)
 #define PK_LOADI(p) _mm256_load_si256((const __m256i *)(const void *)(p))
 #define PK_STOREI(p, x) _mm256_store_si256((__m256i *)(void *)(p), x)

@@ -15,6 +15,7 @@ typedef __m512 pk_v;
 typedef __mmask16 pk_m;
 #define PK_LOAD(p) _mm512_load_ps(p)
 #define PK_LOADU(p) _mm512_loadu_ps(p)
+#define PK_STOREU(p, x) _mm512_storeu_ps(p, x)
 #define PK_STORE(p, x) _mm512_store_ps(p, x)
 #define PK_LOADI(p) _mm512_load_si512((const void *)(p))
 #define PK_STOREI(p, x) _mm512_store_si512((void *)(p), x)
