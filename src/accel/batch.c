@@ -115,8 +115,14 @@ static void store_hit(const tt_hit_arrays *h, size_t i, const tt_hit *hit)
  * failing it goes to tt_ray_check, which decides (and words the cause). */
 static inline tt_status check_ray(const float org[3], const float dir[3], float tmin, float tmax)
 {
-    int ok = tmin >= 0.0f && tmax == tmax && (dir[0] != 0.0f || dir[1] != 0.0f || dir[2] != 0.0f);
-    for (int k = 0; k < 3; k++) ok &= isfinite(org[k]) && isfinite(dir[k]);
+    /* Without branches: x - x is +0 for a finite x and NaN for an infinite
+     * or NaN one, so the sum is 0 exactly when all six are finite. The
+     * short-circuit form (isfinite twelve times, && chains) took about 50
+     * instructions a ray, a tenth of a cornell shadow ray's (callgrind). */
+    const float fin = ((org[0] - org[0]) + (org[1] - org[1])) + ((org[2] - org[2]) + (dir[0] - dir[0])) +
+                      ((dir[1] - dir[1]) + (dir[2] - dir[2]));
+    const int ok = (fin == 0.0f) & (tmin >= 0.0f) & (tmax == tmax) &
+                   ((dir[0] != 0.0f) | (dir[1] != 0.0f) | (dir[2] != 0.0f));
     return ok ? TT_OK : tt_ray_check(org, dir, tmin, tmax, NULL, 0);
 }
 
