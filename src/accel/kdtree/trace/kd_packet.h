@@ -222,12 +222,16 @@ KP_INLINE uint32_t TT_VARIANT(KD_FN(kp_tris))(const tt_kd_view *T, const uint32_
 }
 
 #if defined(PK_PAIR)
-/* kp_leaf's occlusion test for at most PK_L / 2 lanes mm[] of the walk at
- * v0: lane r < PK_L / 2 of a vector holds the walk's lane lanes[r] against
- * triangle i, lane r + PK_L / 2 the same ray against triangle i + 1. */
+/* kp_leaf's test for at most PK_L / 2 lanes mm[] of the walk at v0: lane
+ * r < PK_L / 2 of a vector holds the walk's lane lanes[r] against triangle
+ * i, lane r + PK_L / 2 the same ray against triangle i + 1. Closest hits
+ * (any = 0): both halves are tested against the best before the pair, then
+ * merged lane by lane in triangle order (the second replaces the first only
+ * when strictly nearer), which is the order one after the other gives; a
+ * zero-edge lane is recomputed with the best as it stands at its triangle. */
 KP_INLINE void TT_VARIANT(KD_FN(kp_pairs))(const tt_kd_view *T, kp_rays *P, uint32_t v0,
                                               const uint32_t *refs, uint32_t count,
-                                              const uint32_t *mm)
+                                              const uint32_t *mm, const int any)
 {
     enum { H = PK_L / 2 };
     const int kx = P->kx, ky = P->ky, kz = P->kz;
@@ -242,8 +246,20 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_pairs))(const tt_kd_view *T, kp_rays *P, uint
 #define KP_G(a) PK_PERM2(ix, PK_LOAD((a) + base), PK_LOAD((a) + base + PK_L))
     const pk_v ox = KP_G(P->o[kx]), oy = KP_G(P->o[ky]), oz = KP_G(P->o[kz]);
     const pk_v sx = KP_G(P->sx), sy = KP_G(P->sy), sz = KP_G(P->sz);
-    const pk_v tmin = KP_G(P->tmin), bt = KP_G(P->t);
+    const pk_v tmin = KP_G(P->tmin);
+    pk_v bt = KP_G(P->t);
 #undef KP_G
+    /* closest hits: lane r's best so far (t, u, v, prim) */
+    _Alignas(64) float best_t[PK_L], best_u[PK_L / 2], best_v[PK_L / 2];
+    uint32_t best_p[PK_L / 2], changed = 0;
+    if (!any) {
+        PK_STORE(best_t, bt);
+        for (uint32_t r = 0; r < c; r++) {
+            best_u[r] = P->u[base + lanes[r]];
+            best_v[r] = P->v[base + lanes[r]];
+            best_p[r] = P->prim[base + lanes[r]];
+        }
+    }
     const pk_v zero = PK_SET1(0.0f), one = PK_SET1(1.0f);
     const uint32_t half = (1u << H) - 1u;
     uint32_t open = (1u << c) - 1u; /* lanes r < c not yet occluded */
@@ -274,7 +290,8 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_pairs))(const tt_kd_view *T, kp_rays *P, uint
         const pk_v det = PK_ADD(PK_ADD(U, V), W);
         const pk_v Tv = PK_ADD(PK_ADD(PK_MUL(U, PK_MUL(sz, az)), PK_MUL(V, PK_MUL(sz, bz))),
                                PK_MUL(W, PK_MUL(sz, cz)));
-        const pk_v tt = PK_MUL(Tv, PK_DIV(one, det));
+        const pk_v inv_det = PK_DIV(one, det);
+        const pk_v tt = PK_MUL(Tv, inv_det);
         const pk_m ok =
             PK_MAND(PK_MAND(PK_CMP_NEQ(det, zero), PK_CMP_GE(tt, tmin)), PK_CMP_LT(tt, bt));
         uint32_t acc = PK_BITS(ok) & inside;
@@ -292,6 +309,40 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_pairs))(const tt_kd_view *T, kp_rays *P, uint
                 zl &= ~hb;
             }
         }
+        if (!any) {
+            if (!(acc | zl)) continue;
+            _Alignas(64) float ts[PK_L], us[PK_L], vs[PK_L];
+            PK_STORE(ts, tt);
+            PK_STORE(us, PK_MUL(V, inv_det));
+            PK_STORE(vs, PK_MUL(W, inv_det));
+            const uint32_t id[2] = {refs[i], two ? refs[i + 1] : refs[i]};
+            for (uint32_t lanes_hit = (acc | zl | (acc | zl) >> H) & half; lanes_hit;
+                 lanes_hit &= lanes_hit - 1) {
+                const uint32_t r = (uint32_t)__builtin_ctz(lanes_hit);
+                for (uint32_t h = 0; h < 2; h++) {
+                    const uint32_t l = r + h * H;
+                    float th, uh, vh;
+                    if (zl >> l & 1u) {
+                        const float *p = h ? p1 : p0;
+                        if (!tt_intersect_triangle(P->ray[base + lanes[r]], p, p + 3, p + 6,
+                                                   best_t[r], &th, &uh, &vh))
+                            continue;
+                    } else if ((acc >> l & 1u) && ts[l] < best_t[r]) {
+                        th = ts[l], uh = us[l], vh = vs[l];
+                    } else {
+                        continue;
+                    }
+                    best_t[r] = th;
+                    best_u[r] = uh;
+                    best_v[r] = vh;
+                    best_p[r] = id[h];
+                    changed |= 1u << r;
+                }
+                best_t[r + H] = best_t[r];
+            }
+            bt = PK_LOAD(best_t);
+            continue;
+        }
         /* zero edge functions: tt_intersect_triangle's double-precision
          * recomputation, lane by lane (rare) */
         if (zl) {
@@ -307,6 +358,16 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_pairs))(const tt_kd_view *T, kp_rays *P, uint
             }
         }
         open &= ~((acc | acc >> H) & half);
+    }
+    if (!any) {
+        for (; changed; changed &= changed - 1) {
+            const uint32_t r = (uint32_t)__builtin_ctz(changed), l = base + lanes[r];
+            P->t[l] = best_t[r];
+            P->u[l] = best_u[r];
+            P->v[l] = best_v[r];
+            P->prim[l] = best_p[r];
+        }
+        return;
     }
     for (uint32_t hit = ((1u << c) - 1u) & ~open; hit; hit &= hit - 1) {
         const uint32_t l = lanes[__builtin_ctz(hit)];
@@ -352,8 +413,8 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint3
      * whether any triangle hits it, so testing two at once gives the same
      * answer as one after the other; each test is
      * tt_intersect_triangle's float operations as in kp_tris. */
-    if (any && KP_K == 2 && tot <= PK_L / 2) {
-        TT_VARIANT(KD_FN(kp_pairs))(T, P, v0, refs, count, mm);
+    if (KP_K == 2 && tot <= PK_L / 2) {
+        TT_VARIANT(KD_FN(kp_pairs))(T, P, v0, refs, count, mm, any);
         return;
     }
 #endif
