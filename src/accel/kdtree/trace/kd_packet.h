@@ -44,6 +44,10 @@
  *    kd_best.h lane by lane (and the gathered kernel gives the same), so
  *    with the same leaves in the same order every ray gets the single-ray
  *    triangle, t, u and v bit for bit.
+ *  - Leaves with at most PK_L / 2 lanes left (where the unit defines
+ *    PK_PAIR: AVX2) test two triangles at once, the lanes packed twice, one
+ *    triangle a half (kp_pairs); closest hits are merged lane by lane in
+ *    triangle order, so the answers stay the single ray's.
  *  - Occlusion: a lane is retired at its first hit; the walk ends when no
  *    lane of it is left.
  *
