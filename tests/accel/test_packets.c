@@ -418,7 +418,7 @@ static void grid_pairs(tt_context *ctx)
     if (!tt_test_has_accel("kdtree")) return;
     enum { G = 7, NV = (G + 1) * (G + 1) };
     float vert[3 * (NV + 3)];
-    uint32_t idx[3 * (2 * G * G + 3)];
+    uint32_t idx[3 * (4 * G * G + 3)];
     size_t nt = 0;
     for (int y = 0; y <= G; y++)
         for (int x = 0; x <= G; x++) {
@@ -429,8 +429,12 @@ static void grid_pairs(tt_context *ctx)
         for (int x = 0; x < G; x++) {
             const uint32_t a = (uint32_t)(y * (G + 1) + x), b = a + 1, c = a + G + 1, d = c + 1;
             const uint32_t t[6] = {a, b, d, a, d, c};
-            for (int k = 0; k < 6; k++) idx[3 * nt + (size_t)(k / 3) * 3 + (size_t)(k % 3)] = t[k];
-            nt += 2;
+            /* rows y < 2 twice, each copy right after its triangle: equal
+             * hits of neighbours in one leaf, where the first must win */
+            const int copies = y < 2 ? 2 : 1;
+            for (int h = 0; h < 2; h++)
+                for (int k = 0; k < copies; k++, nt++)
+                    for (int q = 0; q < 3; q++) idx[3 * nt + (size_t)q] = t[3 * h + q];
         }
     /* a zero-area triangle on the row y = 2 and a copy of the first */
     float *e = &vert[3 * NV];
@@ -441,19 +445,21 @@ static void grid_pairs(tt_context *ctx)
     idx[3 * nt] = idx[0], idx[3 * nt + 1] = idx[1], idx[3 * nt + 2] = idx[2], nt++;
     tt_scene *scene = NULL;
     REQUIRE_OK(ctx, tt_scene_create(ctx, vert, NV + 3, idx, nt, &scene));
-    /* targets at vertices, edge midpoints and face centres; dyadic offsets
-     * so the rays pass exactly through them */
-    enum { N = 4 * (2 * G + 1) * (2 * G + 1) };
+    /* targets at vertices, edge midpoints and face centres, and inside
+     * triangles (k >= 4); dyadic offsets so the rays pass exactly through
+     * them */
+    enum { N = 6 * (2 * G + 1) * (2 * G + 1) };
     tt_ray *rays = malloc(N * sizeof *rays);
     if (!rays) exit(1);
     size_t n = 0;
     for (int y = 0; y <= 2 * G; y++)
         for (int x = 0; x <= 2 * G; x++)
-            for (int k = 0; k < 4; k++) {
+            for (int k = 0; k < 6; k++) {
                 tt_ray *r = &rays[n++];
                 const float off[3] = {k & 1 ? 0.25f : -0.125f, k & 2 ? 0.375f : -0.25f, 1.0f};
-                r->org[0] = 0.5f * (float)x + off[0];
-                r->org[1] = 0.5f * (float)y + off[1];
+                const float in = k >= 4 ? 1.0f : 0.0f;
+                r->org[0] = 0.5f * (float)x + 0.25f * in + off[0];
+                r->org[1] = 0.5f * (float)y + 0.0625f * in + off[1];
                 r->org[2] = off[2];
                 for (int j = 0; j < 3; j++) r->dir[j] = -off[j];
                 r->tmin = 0.0f;
