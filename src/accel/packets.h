@@ -134,13 +134,18 @@ static inline int tt_packet_coherent(const tt_wray *w, uint32_t n)
 static inline void tt_wray_finish_rows(tt_wray *w, const float *dx, const float *dy,
                                        const float *dz, uint32_t n)
 {
-    float r[3][TT_PACKET_MAX], s[3][TT_PACKET_MAX];
+    float r[3][TT_PACKET_MAX], s[3][TT_PACKET_MAX], iv[3][TT_PACKET_MAX];
     int k3[3][TT_PACKET_MAX];
     for (uint32_t i = 0; i < n; i++) {
         const float x = dx[i], y = dy[i], z = dz[i];
         r[0][i] = 1.0f / x;
         r[1][i] = 1.0f / y;
         r[2][i] = 1.0f / z;
+        /* tt_safe_inv here, as vector selects (in the copy loop below it
+         * was a scalar compare and branch per component) */
+        iv[0][i] = fabsf(x) < 1e-30f ? copysignf(1e30f, x) : r[0][i];
+        iv[1][i] = fabsf(y) < 1e-30f ? copysignf(1e30f, y) : r[1][i];
+        iv[2][i] = fabsf(z) < 1e-30f ? copysignf(1e30f, z) : r[2][i];
         const float ax = fabsf(x), ay = fabsf(y), az = fabsf(z);
         const int kz = ((ax >= ay) & (ax >= az)) ? 0 : (ay >= az ? 1 : 2);
         const int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
@@ -158,9 +163,8 @@ static inline void tt_wray_finish_rows(tt_wray *w, const float *dx, const float 
     }
     for (uint32_t i = 0; i < n; i++) {
         for (int k = 0; k < 3; k++) {
-            const float d = w[i].dir[k];
             w[i].rcp[k] = r[k][i];
-            w[i].inv[k] = fabsf(d) < 1e-30f ? copysignf(1e30f, d) : r[k][i];
+            w[i].inv[k] = iv[k][i];
         }
         w[i].kx = k3[0][i];
         w[i].ky = k3[1][i];

@@ -57,11 +57,14 @@ static tt_ray *make_rays(const tt_scene *scene, const tt_camera *cam, size_t *n_
     }
     for (size_t b = 0; b < n_bad; b++) {
         tt_ray *r = &rays[bad[b]];
-        switch (b % 4) {
+        switch (b % 6) {
         case 0: r->tmin = -1.0f; break;
         case 1: r->dir[0] = r->dir[1] = r->dir[2] = 0.0f; break;
         case 2: r->org[1] = NAN; break;
-        default: r->tmax = NAN; break;
+        case 3: r->tmax = NAN; break;
+        /* infinities: the batch's branch-free finiteness test (x - x) */
+        case 4: r->org[2] = INFINITY; break;
+        default: r->dir[0] = -INFINITY; break;
         }
     }
     *n_out = n;
@@ -372,7 +375,7 @@ static void check_arguments(tt_context *ctx, const tt_accel *accel, const tt_ray
 
 int main(void)
 {
-    static const size_t bad[] = {5, 77, 2400, 4000};
+    static const size_t bad[] = {5, 77, 2400, 4000, 4100, 4200};
     const size_t n_bad = sizeof bad / sizeof bad[0];
     for (int threads = 1; threads <= 2; threads++) {
         tt_context_options co;

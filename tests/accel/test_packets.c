@@ -435,11 +435,93 @@ static void wray_rows(void)
     }
 }
 
+/* Occlusion packets of a few rays through a grid's vertices and edge
+ * midpoints (zero edge functions: the double-precision recomputation),
+ * segments ending just short of the plane or past it, leaves with odd
+ * triangle counts and a zero-area triangle: the leaf test that takes two
+ * triangles at once when at most half a vector of lanes is left (AVX2
+ * kp_pairs) must answer as single rays, whatever the packet size. */
+static void grid_pairs(tt_context *ctx)
+{
+    if (!tt_test_has_accel("kdtree")) return;
+    enum { G = 7, NV = (G + 1) * (G + 1) };
+    float vert[3 * (NV + 3)];
+    uint32_t idx[3 * (4 * G * G + 3)];
+    size_t nt = 0;
+    for (int y = 0; y <= G; y++)
+        for (int x = 0; x <= G; x++) {
+            float *v = &vert[3 * (y * (G + 1) + x)];
+            v[0] = (float)x, v[1] = (float)y, v[2] = 0.0f;
+        }
+    for (int y = 0; y < G; y++)
+        for (int x = 0; x < G; x++) {
+            const uint32_t a = (uint32_t)(y * (G + 1) + x), b = a + 1, c = a + G + 1, d = c + 1;
+            const uint32_t t[6] = {a, b, d, a, d, c};
+            /* rows y < 2 twice, each copy right after its triangle: equal
+             * hits of neighbours in one leaf, where the first must win */
+            const int copies = y < 2 ? 2 : 1;
+            for (int h = 0; h < 2; h++)
+                for (int k = 0; k < copies; k++, nt++)
+                    for (int q = 0; q < 3; q++) idx[3 * nt + (size_t)q] = t[3 * h + q];
+        }
+    /* a zero-area triangle on the row y = 2 and a copy of the first */
+    float *e = &vert[3 * NV];
+    e[0] = 1.0f, e[1] = 2.0f, e[2] = 0.0f;
+    e[3] = 2.0f, e[4] = 2.0f, e[5] = 0.0f;
+    e[6] = 3.0f, e[7] = 2.0f, e[8] = 0.0f;
+    idx[3 * nt] = NV, idx[3 * nt + 1] = NV + 1, idx[3 * nt + 2] = NV + 2, nt++;
+    idx[3 * nt] = idx[0], idx[3 * nt + 1] = idx[1], idx[3 * nt + 2] = idx[2], nt++;
+    tt_scene *scene = NULL;
+    REQUIRE_OK(ctx, tt_scene_create(ctx, vert, NV + 3, idx, nt, &scene));
+    /* targets at vertices, edge midpoints and face centres, and inside
+     * triangles (k >= 4); dyadic offsets so the rays pass exactly through
+     * them */
+    enum { N = 6 * (2 * G + 1) * (2 * G + 1) };
+    tt_ray *rays = malloc(N * sizeof *rays);
+    if (!rays) exit(1);
+    size_t n = 0;
+    for (int y = 0; y <= 2 * G; y++)
+        for (int x = 0; x <= 2 * G; x++)
+            for (int k = 0; k < 6; k++) {
+                tt_ray *r = &rays[n++];
+                const float off[3] = {k & 1 ? 0.25f : -0.125f, k & 2 ? 0.375f : -0.25f, 1.0f};
+                const float in = k >= 4 ? 1.0f : 0.0f;
+                r->org[0] = 0.5f * (float)x + 0.25f * in + off[0];
+                r->org[1] = 0.5f * (float)y + 0.0625f * in + off[1];
+                r->org[2] = off[2];
+                for (int j = 0; j < 3; j++) r->dir[j] = -off[j];
+                r->tmin = 0.0f;
+                /* t = 1 at the plane: short of it, exactly at it, past it */
+                r->tmax = (n % 3 == 0) ? 0.9990234375f : (n % 3 == 1) ? 1.0f : 2.0f;
+            }
+    for (int isa = TT_ISA_FIRST; isa <= TT_ISA_LAST; isa++) {
+        if (!tt_isa_supported((tt_isa)isa)) continue;
+        for (int cap = 0; cap < 2; cap++) {
+            tt_build_options o;
+            tt_build_options_default(&o);
+            o.accel = "kdtree";
+            o.isa = (tt_isa)isa;
+            if (cap) o.kdtree.cost_intersect = 1.5f; /* bigger leaves */
+            tt_accel *a = NULL;
+            REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &o, &a));
+            char what[96];
+            snprintf(what, sizeof what, "grid pairs %s%s", tt_isa_name((tt_isa)isa),
+                     cap ? " C_I 1.5" : "");
+            g_small = 1;
+            check_rays(a, rays, n, 0, what);
+            tt_accel_destroy(a);
+        }
+    }
+    free(rays);
+    tt_scene_destroy(scene);
+}
+
 int main(void)
 {
     tt_context *ctx = tt_test_context();
     wray_rows();
     bad_option(ctx);
+    grid_pairs(ctx);
     scene_view(ctx, "bun_zipper_res4.ply", "bunny_res4:main", 1);
     scene_view(ctx, "cornell_box.obj", "cornell:main", 1);
     scene_view(ctx, "bun_zipper.ply", "bunny:main", 0);

@@ -44,6 +44,10 @@
  *    kd_best.h lane by lane (and the gathered kernel gives the same), so
  *    with the same leaves in the same order every ray gets the single-ray
  *    triangle, t, u and v bit for bit.
+ *  - Leaves with at most PK_L / 2 lanes left (where the unit defines
+ *    PK_PAIR: AVX2) test two triangles at once, the lanes packed twice, one
+ *    triangle a half (kp_pairs); closest hits are merged lane by lane in
+ *    triangle order, so the answers stay the single ray's.
  *  - Occlusion: a lane is retired at its first hit; the walk ends when no
  *    lane of it is left.
  *
@@ -221,6 +225,161 @@ KP_INLINE uint32_t TT_VARIANT(KD_FN(kp_tris))(const tt_kd_view *T, const uint32_
     return out;
 }
 
+#if defined(PK_PAIR)
+/* kp_leaf's test for at most PK_L / 2 lanes mm[] of the walk at v0: lane
+ * r < PK_L / 2 of a vector holds the walk's lane lanes[r] against triangle
+ * i, lane r + PK_L / 2 the same ray against triangle i + 1. Closest hits
+ * (any = 0): both halves are tested against the best before the pair, then
+ * merged lane by lane in triangle order (the second replaces the first only
+ * when strictly nearer), which is the order one after the other gives; a
+ * zero-edge lane is recomputed with the best as it stands at its triangle. */
+KP_INLINE void TT_VARIANT(KD_FN(kp_pairs))(const tt_kd_view *T, kp_rays *P, uint32_t v0,
+                                              const uint32_t *refs, uint32_t count,
+                                              const uint32_t *mm, const int any)
+{
+    enum { H = PK_L / 2 };
+    const int kx = P->kx, ky = P->ky, kz = P->kz;
+    const uint32_t base = v0 * PK_L;
+    _Alignas(64) uint32_t lanes[PK_L];
+    uint32_t c = 0;
+    for (uint32_t j = 0; j < 2; j++)
+        for (uint32_t b = mm[j]; b; b &= b - 1) lanes[c++] = j * PK_L + (uint32_t)__builtin_ctz(b);
+    for (uint32_t r = c; r < H; r++) lanes[r] = 0; /* never active */
+    for (uint32_t r = 0; r < H; r++) lanes[r + H] = lanes[r];
+    const pk_vi ix = PK_LOADI(lanes);
+#define KP_G(a) PK_PERM2(ix, PK_LOAD((a) + base), PK_LOAD((a) + base + PK_L))
+    const pk_v ox = KP_G(P->o[kx]), oy = KP_G(P->o[ky]), oz = KP_G(P->o[kz]);
+    const pk_v sx = KP_G(P->sx), sy = KP_G(P->sy), sz = KP_G(P->sz);
+    const pk_v tmin = KP_G(P->tmin);
+    pk_v bt = KP_G(P->t);
+#undef KP_G
+    /* closest hits: lane r's best so far (t, u, v, prim) */
+    _Alignas(64) float best_t[PK_L], best_u[PK_L / 2], best_v[PK_L / 2];
+    uint32_t best_p[PK_L / 2], changed = 0;
+    if (!any) {
+        PK_STORE(best_t, bt);
+        for (uint32_t r = 0; r < c; r++) {
+            best_u[r] = P->u[base + lanes[r]];
+            best_v[r] = P->v[base + lanes[r]];
+            best_p[r] = P->prim[base + lanes[r]];
+        }
+    }
+    const pk_v zero = PK_SET1(0.0f), one = PK_SET1(1.0f);
+    const uint32_t half = (1u << H) - 1u;
+    uint32_t open = (1u << c) - 1u; /* lanes r < c not yet occluded */
+    for (uint32_t i = 0; i < count && open; i += 2) {
+        const float *p0 = T->tri + 9 * (size_t)refs[i];
+        const int two = i + 1 < count;
+        const float *p1 = two ? T->tri + 9 * (size_t)refs[i + 1] : p0;
+        const uint32_t act = two ? open | open << H : open;
+        const pk_v ax = PK_SUB(PK_PAIR(p0[kx], p1[kx]), ox), ay = PK_SUB(PK_PAIR(p0[ky], p1[ky]), oy),
+                   az = PK_SUB(PK_PAIR(p0[kz], p1[kz]), oz);
+        const pk_v bx = PK_SUB(PK_PAIR(p0[3 + kx], p1[3 + kx]), ox),
+                   by = PK_SUB(PK_PAIR(p0[3 + ky], p1[3 + ky]), oy),
+                   bz = PK_SUB(PK_PAIR(p0[3 + kz], p1[3 + kz]), oz);
+        const pk_v cx = PK_SUB(PK_PAIR(p0[6 + kx], p1[6 + kx]), ox),
+                   cy = PK_SUB(PK_PAIR(p0[6 + ky], p1[6 + ky]), oy),
+                   cz = PK_SUB(PK_PAIR(p0[6 + kz], p1[6 + kz]), oz);
+        const pk_v Ax = PK_SUB(ax, PK_MUL(sx, az)), Ay = PK_SUB(ay, PK_MUL(sy, az));
+        const pk_v Bx = PK_SUB(bx, PK_MUL(sx, bz)), By = PK_SUB(by, PK_MUL(sy, bz));
+        const pk_v Cx = PK_SUB(cx, PK_MUL(sx, cz)), Cy = PK_SUB(cy, PK_MUL(sy, cz));
+        const pk_v U = PK_SUB(PK_MUL(Cx, By), PK_MUL(Cy, Bx));
+        const pk_v V = PK_SUB(PK_MUL(Ax, Cy), PK_MUL(Ay, Cx));
+        const pk_v W = PK_SUB(PK_MUL(Bx, Ay), PK_MUL(By, Ax));
+        uint32_t zl =
+            PK_BITS(PK_MOR(PK_MOR(PK_CMP_EQ(U, zero), PK_CMP_EQ(V, zero)), PK_CMP_EQ(W, zero))) &
+            act;
+        const uint32_t inside = ~PK_SIGNS(PK_XOR_OR(U, V, W)) & act & ~zl;
+        if (!(inside | zl)) continue;
+        const pk_v det = PK_ADD(PK_ADD(U, V), W);
+        const pk_v Tv = PK_ADD(PK_ADD(PK_MUL(U, PK_MUL(sz, az)), PK_MUL(V, PK_MUL(sz, bz))),
+                               PK_MUL(W, PK_MUL(sz, cz)));
+        const pk_v inv_det = PK_DIV(one, det);
+        const pk_v tt = PK_MUL(Tv, inv_det);
+        const pk_m ok =
+            PK_MAND(PK_MAND(PK_CMP_NEQ(det, zero), PK_CMP_GE(tt, tmin)), PK_CMP_LT(tt, bt));
+        uint32_t acc = PK_BITS(ok) & inside;
+        if (!(acc | zl)) continue;
+        /* tt_intersect_triangle's zero-area refusal, per half's triangle */
+        for (uint32_t h = 0; h < 2; h++) {
+            const uint32_t hb = half << (h * H);
+            if (!((acc | zl) & hb)) continue;
+            const float *p = h ? p1 : p0;
+            const float e1x = p[3] - p[0], e1y = p[4] - p[1], e1z = p[5] - p[2];
+            const float e2x = p[6] - p[0], e2y = p[7] - p[1], e2z = p[8] - p[2];
+            if (e1y * e2z - e1z * e2y == 0.0f && e1z * e2x - e1x * e2z == 0.0f &&
+                e1x * e2y - e1y * e2x == 0.0f) {
+                acc &= ~hb;
+                zl &= ~hb;
+            }
+        }
+        if (!any) {
+            if (!(acc | zl)) continue;
+            _Alignas(64) float ts[PK_L], us[PK_L], vs[PK_L];
+            PK_STORE(ts, tt);
+            PK_STORE(us, PK_MUL(V, inv_det));
+            PK_STORE(vs, PK_MUL(W, inv_det));
+            const uint32_t id[2] = {refs[i], two ? refs[i + 1] : refs[i]};
+            for (uint32_t lanes_hit = (acc | zl | (acc | zl) >> H) & half; lanes_hit;
+                 lanes_hit &= lanes_hit - 1) {
+                const uint32_t r = (uint32_t)__builtin_ctz(lanes_hit);
+                for (uint32_t h = 0; h < 2; h++) {
+                    const uint32_t l = r + h * H;
+                    float th, uh, vh;
+                    if (zl >> l & 1u) {
+                        const float *p = h ? p1 : p0;
+                        if (!tt_intersect_triangle(P->ray[base + lanes[r]], p, p + 3, p + 6,
+                                                   best_t[r], &th, &uh, &vh))
+                            continue;
+                    } else if ((acc >> l & 1u) && ts[l] < best_t[r]) {
+                        th = ts[l], uh = us[l], vh = vs[l];
+                    } else {
+                        continue;
+                    }
+                    best_t[r] = th;
+                    best_u[r] = uh;
+                    best_v[r] = vh;
+                    best_p[r] = id[h];
+                    changed |= 1u << r;
+                }
+                best_t[r + H] = best_t[r];
+            }
+            bt = PK_LOAD(best_t);
+            continue;
+        }
+        /* zero edge functions: tt_intersect_triangle's double-precision
+         * recomputation, lane by lane (rare) */
+        if (zl) {
+            _Alignas(64) float bts[PK_L];
+            PK_STORE(bts, bt);
+            for (; zl; zl &= zl - 1) {
+                const uint32_t l = (uint32_t)__builtin_ctz(zl);
+                const float *p = l < H ? p0 : p1;
+                float th, uh, vh;
+                if (tt_intersect_triangle(P->ray[base + lanes[l]], p, p + 3, p + 6, bts[l], &th,
+                                          &uh, &vh))
+                    acc |= 1u << l;
+            }
+        }
+        open &= ~((acc | acc >> H) & half);
+    }
+    if (!any) {
+        for (; changed; changed &= changed - 1) {
+            const uint32_t r = (uint32_t)__builtin_ctz(changed), l = base + lanes[r];
+            P->t[l] = best_t[r];
+            P->u[l] = best_u[r];
+            P->v[l] = best_v[r];
+            P->prim[l] = best_p[r];
+        }
+        return;
+    }
+    for (uint32_t hit = ((1u << c) - 1u) & ~open; hit; hit &= hit - 1) {
+        const uint32_t l = lanes[__builtin_ctz(hit)];
+        P->done[v0 + l / PK_L] |= 1u << (l % PK_L);
+    }
+}
+#endif
+
 /* A leaf's triangles against lanes m[] of the walk at vector v0. When the
  * walk's active lanes fit one vector, they are packed into one (PK_PERM2)
  * and the leaf is tested once instead of once per vector. */
@@ -251,6 +410,18 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint3
         tot += kp_popcount(mm[j]);
         nz += mm[j] != 0;
     }
+#if defined(PK_PAIR)
+    /* Occlusion with at most half a vector of lanes left (deep leaves of a
+     * shadow walk): the lanes twice over, two triangles a test, the first
+     * in the lower half, the second in the upper. A lane's answer is
+     * whether any triangle hits it, so testing two at once gives the same
+     * answer as one after the other; each test is
+     * tt_intersect_triangle's float operations as in kp_tris. */
+    if (KP_K == 2 && tot <= PK_L / 2) {
+        TT_VARIANT(KD_FN(kp_pairs))(T, P, v0, refs, count, mm, any);
+        return;
+    }
+#endif
 #if KP_PACK
     if (KP_K == 2 && nz == 2 && tot <= PK_L) {
         /* lane r of the packed vector is the walk's lane lanes[r] */

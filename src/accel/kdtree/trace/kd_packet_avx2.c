@@ -60,6 +60,9 @@ static inline __m256 kp_mask_avx2(uint32_t bits)
     _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(a),                                \
                                          _mm256_castsi256_ps(_mm256_set1_epi32((int)(x))), m))
 
+/* a vector of x in the lower four lanes and y in the upper four (two
+ * triangles a test: kp_pairs) */
+#define PK_PAIR(x, y) _mm256_set_m128(_mm_set1_ps(y), _mm_set1_ps(x))
 #define KD_SINGLE_INTERSECT tt_kd_avx2_intersect
 #define KD_SINGLE_OCCLUDED tt_kd_avx2_occluded
 
