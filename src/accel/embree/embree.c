@@ -6,15 +6,14 @@
  *
  * Intervals. Our rays cover [tmin, tmax) with 0 <= tmin (the tt_ray
  * contract, enforced by accel.c's prepare; Embree's traversal asserts
- * tnear >= 0 too). In robust mode (which we use) Embree's triangle test
- * accepts tnear <= t <= tfar, closed at both ends (the default Moeller test
- * is open at tnear; we never use it). So tnear is tmin and tfar the largest
- * float below tmax, which makes "t <= tfar" the same predicate as
- * "t < tmax" for a float t. Embree decides hits its own way (a Pluecker test
- * with a one-ulp tolerance on the edges), so a hit within an ulp or so of
- * either end, or of a silhouette edge, may still be decided differently
- * from our watertight test; that is the only inexactness left, and why the
- * hard tests (tests/hard) hold Embree to exact agreement on generic rays
+ * tnear >= 0 too). Embree's own interval ends differ by ISA (robust mode
+ * was closed at both ends on AVX-512 and missed t = tnear on AVX2), so it is
+ * asked over a slightly wider interval and embree_filter keeps only the
+ * triangles our watertight test accepts on [tmin, tmax): the ends are ours
+ * exactly. Embree decides which triangles to offer its own way (a Pluecker
+ * test with a one-ulp tolerance on the edges), so a hit near a silhouette
+ * edge may still be decided differently; that is the only inexactness left,
+ * and why the hard tests (tests/hard) hold Embree to exact agreement on generic rays
  * only. The t, u, v of a closest hit are our own (see embree_intersect).
  *
  * Legal rays Embree cannot take. Embree asserts (and the packaged library
@@ -113,6 +112,9 @@ static tt_status embree_failed(tt_accel *a, const char *step)
     return TT_OK;
 }
 
+/* (below: the filter that holds Embree to our interval ends) */
+static void embree_filter(const struct RTCFilterFunctionNArguments *args);
+
 static tt_status embree_build(tt_accel *a)
 {
     const tt_scene *s = a->scene;
@@ -173,6 +175,8 @@ static tt_status embree_build(tt_accel *a)
         }
         memcpy(v, s->vertices, s->vertex_count * 3 * sizeof(float));
         memcpy(idx, s->indices, s->triangle_count * 3 * sizeof(uint32_t));
+        rtcSetGeometryIntersectFilterFunction(g, embree_filter);
+        rtcSetGeometryOccludedFilterFunction(g, embree_filter);
         rtcCommitGeometry(g);
         unsigned id = rtcAttachGeometry(e->scene, g);
         rtcReleaseGeometry(g); /* the scene holds its own reference */
@@ -199,7 +203,6 @@ static void embree_destroy(tt_accel *a)
 }
 
 /* The largest float below x (x itself for -inf); see the top for why. */
-static float below(float x) { return nextafterf(x, -INFINITY); }
 
 /* Embree's ray.valid(), asserted by its traversal (and the Debian build
  * keeps the assertions, so a failing one aborts the whole process): every
@@ -259,17 +262,54 @@ static rtc_ray_kind to_rtc_ray(const tt_wray *r, struct RTCRay *out, int *scale_
     out->dir_x = dir[0];
     out->dir_y = dir[1];
     out->dir_z = dir[2];
-    out->tnear = tmin; /* inclusive in robust mode, see the top */
+    /* a little wider than [tmin, tmax): embree_filter cuts it to ours */
+    const float lo = tmin - fabsf(tmin) * 0x1p-16f;
+    out->tnear = lo > 0.0f ? lo : 0.0f;
     /* An open-ended ray still ends where our t overflows: the watertight
      * test (every other structure) cannot return a hit beyond FLT_MAX, and a
      * tiny direction may reach the scene only there. For a direction scaled
      * down (e > 0) that bound is inf again. */
-    out->tfar = isinf(tmax) ? ldexpf(FLT_MAX, e) : below(tmax);
+    out->tfar = isinf(tmax) ? ldexpf(FLT_MAX, e) : tmax + fabsf(tmax) * 0x1p-16f;
     out->time = 0.0f;
     out->mask = 0xFFFFFFFFu;
     out->id = 0;
     out->flags = 0;
     return RTC_RAY_READY;
+}
+
+/* Embree's triangle test is tolerant and its interval ends are not the same
+ * on every ISA (on an AVX2 CPU a hit at exactly tmin was missed and one at
+ * tmax taken, in robust mode). So Embree is asked over an interval a little
+ * wider than ours, and every triangle it accepts passes this filter only
+ * when the project's watertight test accepts it for our ray on [tmin,
+ * tmax): the interval's ends are then ours exactly, on every ISA. The ray
+ * travels in a context that begins with Embree's own. */
+typedef struct embree_ctx {
+    struct RTCIntersectContext ic;
+    const tt_wray *ray;
+    const float *tri;
+} embree_ctx;
+
+static void embree_filter(const struct RTCFilterFunctionNArguments *args)
+{
+    const embree_ctx *c = (const embree_ctx *)args->context;
+    for (unsigned i = 0; i < args->N; i++) {
+        if (args->valid[i] != -1) continue;
+        /* RTCHitN is N-wide rows: Ng x, y, z, u, v, then primID (the C
+         * header has no accessor) */
+        const uint32_t prim = ((const uint32_t *)args->hit)[5 * args->N + i];
+        const float *p = c->tri + 9 * (size_t)prim;
+        float t, u, v;
+        if (!tt_intersect_triangle(c->ray, p, p + 3, p + 6, c->ray->tmax, &t, &u, &v))
+            args->valid[i] = 0;
+    }
+}
+
+static void embree_context(embree_ctx *c, const tt_accel *a, const tt_wray *r)
+{
+    rtcInitIntersectContext(&c->ic);
+    c->ray = r;
+    c->tri = a->scene->tri;
 }
 
 static void embree_intersect(const tt_accel *a, const tt_wray *r, tt_hit *hit,
@@ -294,9 +334,9 @@ static void embree_intersect(const tt_accel *a, const tt_wray *r, tt_hit *hit,
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    struct RTCIntersectContext ic;
-    rtcInitIntersectContext(&ic);
-    rtcIntersect1(e->scene, &ic, &rh);
+    embree_ctx ic;
+    embree_context(&ic, a, r);
+    rtcIntersect1(e->scene, &ic.ic, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
     hit->prim = rh.hit.primID;
     /* Embree chose the triangle; t, u, v are recomputed with the project's
@@ -334,9 +374,9 @@ static int embree_occluded(const tt_accel *a, const tt_wray *r, tt_trace_args *a
         return tt_bf_occluded(a->scene->tri, (uint32_t)a->scene->triangle_count, r, NULL);
     case RTC_RAY_READY: break;
     }
-    struct RTCIntersectContext ic;
-    rtcInitIntersectContext(&ic);
-    rtcOccluded1(e->scene, &ic, &ray);
+    embree_ctx ic;
+    embree_context(&ic, a, r);
+    rtcOccluded1(e->scene, &ic.ic, &ray);
     return ray.tfar == -INFINITY; /* Embree's mark for an occluded ray */
 }
 
