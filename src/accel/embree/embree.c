@@ -202,8 +202,6 @@ static void embree_destroy(tt_accel *a)
     a->impl = NULL;
 }
 
-/* The largest float below x (x itself for -inf); see the top for why. */
-
 /* Embree's ray.valid(), asserted by its traversal (and the Debian build
  * keeps the assertions, so a failing one aborts the whole process): every
  * origin and direction component at most FLT_LARGE = 1.844e18 in
@@ -341,24 +339,10 @@ static void embree_intersect(const tt_accel *a, const tt_wray *r, tt_hit *hit,
     hit->prim = rh.hit.primID;
     /* Embree chose the triangle; t, u, v are recomputed with the project's
      * watertight test so that a hit on the same triangle gives the same
-     * bits in every structure (triangle.h's contract). Otherwise Embree's t,
-     * a few ulps off ours, moves the shadow ray's origin, and a grazing
-     * shadow ray can flip its flag. When the watertight test refuses the
-     * triangle (a ray within an ulp of an edge or of the interval's ends,
-     * which Embree's tolerant test accepted), Embree's own values stay. */
+     * bits in every structure (triangle.h's contract). embree_filter let
+     * only triangles pass that this same call accepts, so it cannot fail. */
     const float *p = a->scene->tri + 9 * (size_t)rh.hit.primID;
-    float t, u, v;
-    if (tt_intersect_triangle(r, p, p + 3, p + 6, r->tmax, &t, &u, &v)) {
-        hit->t = t;
-        hit->u = u;
-        hit->v = v;
-    } else {
-        /* Embree's t is on the rescaled ray, in [tmin, tmax) scaled, so
-         * scaled back (exactly) it lies in ours; tfar above keeps it finite. */
-        hit->t = ldexpf(rh.ray.tfar, scale_exp);
-        hit->u = rh.hit.u; /* Embree's u, v weigh vertices 1 and 2, as ours do */
-        hit->v = rh.hit.v;
-    }
+    (void)tt_intersect_triangle(r, p, p + 3, p + 6, r->tmax, &hit->t, &hit->u, &hit->v);
 }
 
 static int embree_occluded(const tt_accel *a, const tt_wray *r, tt_trace_args *args)
