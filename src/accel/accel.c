@@ -57,7 +57,7 @@ void tt_build_options_default(tt_build_options *o)
     o->kdtree.cost_traversal = 1.0f;
     /* C_I = C_T / 5, not the 1.5 the papers' tables use (bench_kdtree_build):
      * a leaf's triangles are tested eight at a time with plain loads
-     * (kd_leaf_gather.h), so an extra triangle costs far less than a node
+     * (kd_leaf_block.h), so an extra triangle costs far less than a node
      * step, whose cost is mostly a hard-to-predict branch. Against 0.5 (the
      * default before), on the shared views against Embree (1 thread, CPU
      * time): bunny shadow rays 0.40x -> 0.54x, primary +10-15%, sibenik and

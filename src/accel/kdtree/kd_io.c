@@ -10,6 +10,7 @@
 
 #include "accel/accel_io.h"
 #include "accel/kdtree/kd_io.h"
+#include "accel/kdtree/kd_blocks.h"
 #include "accel/kdtree/trace/kd_trace_cpu.h"
 #include "io/accel_file.h"
 
@@ -163,12 +164,15 @@ tt_status kd_io_load(tt_accel *a, const tt_af_file *f)
     if (!seen) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "%s: out of memory", f->name);
     st = walk(ctx, f, t, (uint32_t)a->scene->triangle_count, seen);
     tt_free(ctx, seen);
-    t->fast = tt_kd_cpu_kernels(a->isa, a->scene->triangle_count);
+    t->fast_view = t->view;
+    /* The leaf blocks are the engine's, not the file's: rebuilt here. */
+    if (st == TT_OK) st = tt_kdtree_use_isa(ctx, t, a->isa, a->scene->tri, a->scene->triangle_count);
     return st;
 }
 
 void kd_io_unload(tt_accel *a)
 {
-    tt_free(a->ctx, a->impl); /* the arrays are the file's */
+    if (a->impl) tt_kdtree_blocks_free(a->ctx, a->impl); /* the engine's own copy */
+    tt_free(a->ctx, a->impl); /* the other arrays are the file's */
     a->impl = NULL;
 }

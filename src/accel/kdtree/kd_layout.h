@@ -65,8 +65,15 @@ typedef struct tt_kd_aug {
     uint32_t node;
 } tt_kd_aug;
 
+struct tt_tri_block; /* geometry/tri_block.h */
+
 /* Everything a traversal reads, as plain pointers (device pointers on the
- * GPU). tri is the scene's flat triangle array, 9 floats a triangle. */
+ * GPU). tri is the scene's flat triangle array, 9 floats a triangle.
+ *
+ * blocks: NULL, except in the view the CPU's AVX2 / AVX-512 single-ray
+ * kernels walk (kd_blocks.h): there `nodes` is a copy of the tree's nodes
+ * whose leaves' u.first index blocks[] (each leaf's triangles, copied in
+ * reference order) instead of refs[]. */
 typedef struct tt_kd_view {
     const tt_kd_node *nodes;
     const uint32_t *refs;
@@ -74,6 +81,7 @@ typedef struct tt_kd_view {
     const tt_kd_aug *aug;
     uint32_t aug_count;
     int empty; /* no triangles: every ray misses                             */
+    const struct tt_tri_block *blocks;
 } tt_kd_view;
 
 TT_HD int tt_kd_is_leaf(uint32_t bits) { return (bits & 3u) == TT_KD_LEAF; }

@@ -36,8 +36,17 @@ typedef struct tt_kdtree {
     double sah_cost;   /* C_T sum SA(interior) + C_I sum n SA(leaf), / SA(root) */
 
     /* The fast traversal entry points of the accel's ISA, set by the
-     * structure once built (kd_vtable.c); scalar until then. */
+     * structure once built (kd_vtable.c, kd_io.c: tt_kdtree_use_isa);
+     * scalar until then. They walk fast_view: `view` itself, or for the
+     * kernels that test leaves as blocks (fast.blocks) block_view, the
+     * block copy of kd_blocks.h, whose arrays the tree owns (block_nodes,
+     * block_mem; all zero without one). */
     tt_kd_kernels fast;
+    tt_kd_view fast_view;
+    tt_kd_view block_view;
+    tt_kd_node *block_nodes;
+    void *block_mem;      /* blocks' allocation (64-byte aligned inside) */
+    uint32_t block_count; /* tt_tri_block's in fast_view.blocks          */
 } tt_kdtree;
 
 /* Builds the tree for accel->scene with accel->options.kdtree (validated

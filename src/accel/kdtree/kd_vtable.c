@@ -2,6 +2,7 @@
  * structure: the dispatch table and its glue. */
 #include "accel/kdtree/kd_tree.h"
 #include "accel/kdtree/kd_io.h"
+#include "accel/kdtree/kd_blocks.h"
 
 #include "accel/kdtree/trace/kd_trace_cpu.h"
 #include "accel/kdtree/trace/kd_packet_cpu.h"
@@ -21,8 +22,9 @@ static tt_status kd_build(tt_accel *a)
      * Havran & Bittner's every 4 levels. */
     a->options.kdtree.dmin = tt_kdtree_dmin(&a->options.kdtree);
     tt_status st = tt_kdtree_build(a->ctx, a->scene, &a->options.kdtree, &t);
-    if (t) t->fast = tt_kd_cpu_kernels(a->isa, a->scene->triangle_count);
     a->impl = t;
+    if (st == TT_OK && t)
+        st = tt_kdtree_use_isa(a->ctx, t, a->isa, a->scene->tri, a->scene->triangle_count);
     return st;
 }
 
@@ -49,7 +51,7 @@ static uint32_t caster_of(const tt_accel *a, const tt_trace_args *args)
 static void kd_intersect(const tt_accel *a, const tt_wray *r, tt_hit *hit, tt_trace_args *args)
 {
     uint32_t end;
-    tree(a)->fast.intersect(&tree(a)->view, a->options.kdtree.traversal, r, hint_of(args), hit,
+    tree(a)->fast.intersect(&tree(a)->fast_view, a->options.kdtree.traversal, r, hint_of(args), hit,
                             &end);
     if (args) args->end_hint = end;
 }
@@ -57,7 +59,7 @@ static void kd_intersect(const tt_accel *a, const tt_wray *r, tt_hit *hit, tt_tr
 static int kd_occluded(const tt_accel *a, const tt_wray *r, tt_trace_args *args)
 {
     uint32_t end;
-    int o = tree(a)->fast.occluded(&tree(a)->view, a->options.kdtree.traversal, r, hint_of(args),
+    int o = tree(a)->fast.occluded(&tree(a)->fast_view, a->options.kdtree.traversal, r, hint_of(args),
                                    caster_of(a, args), &end);
     if (args) args->end_hint = end;
     return o;
@@ -163,7 +165,11 @@ static void kd_statistics(const tt_accel *a, tt_stat_fn fn, void *user)
     fn(user, "triangles", (double)tris);
 }
 
-static size_t kd_memory(const tt_accel *a) { return tt_kdtree_memory(tree(a)); }
+/* The tree (M_KD, the papers' measure) and the engine's leaf blocks. */
+static size_t kd_memory(const tt_accel *a)
+{
+    return tt_kdtree_memory(tree(a)) + tt_kdtree_blocks_memory(tree(a));
+}
 
 const tt_kdtree *tt_kdtree_of(const tt_accel *a)
 {

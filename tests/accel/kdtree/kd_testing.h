@@ -7,7 +7,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "accel/kdtree/kd_blocks.h"
 #include "accel/kdtree/kd_tree.h"
+#include "io/scene.h"
 #include "check.h"
 
 static inline tt_accel *kd_build_with(tt_context *ctx, const tt_scene *scene, tt_kd_builder builder,
@@ -50,7 +52,8 @@ static inline size_t kd_isas(tt_isa out[TT_ISA_AVX512 + 1])
 
 /* A view of kd-tree accel `a` running the fast kernels of `isa`: copies of
  * the accel and tree structs sharing the tree's arrays, as a build with
- * options.isa = isa would have them (tt_kd_cpu_kernels). Only `a` may be
+ * options.isa = isa would have them (tt_kd_cpu_kernels), with leaf blocks
+ * of its own (kd_blocks.h) where the kernels read them. Only `a` may be
  * destroyed; free the view with kd_isa_view_free. */
 static inline tt_accel *kd_isa_view(const tt_accel *a, tt_isa isa)
 {
@@ -62,7 +65,17 @@ static inline tt_accel *kd_isa_view(const tt_accel *a, tt_isa isa)
     }
     *v = *a;
     *t = *tt_kdtree_of(a);
+    t->block_nodes = NULL;
+    t->block_mem = NULL;
     t->fast = tt_kd_cpu_kernels(isa, tt_scene_triangle_count(a->scene));
+    t->fast_view = t->view;
+    if (t->fast.blocks) {
+        if (tt_kdtree_blocks_build(a->ctx, t, a->scene->tri) != TT_OK) {
+            fprintf(stderr, "out of memory\n");
+            exit(1);
+        }
+        t->fast_view = t->block_view;
+    }
     v->impl = t;
     v->isa = isa;
     return v;
@@ -71,7 +84,10 @@ static inline tt_accel *kd_isa_view(const tt_accel *a, tt_isa isa)
 static inline void kd_isa_view_free(tt_accel *v)
 {
     if (!v) return;
-    free(v->impl);
+    tt_kdtree *t = v->impl;
+    tt_free(v->ctx, t->block_nodes);
+    tt_free(v->ctx, t->block_mem);
+    free(t);
     free(v);
 }
 

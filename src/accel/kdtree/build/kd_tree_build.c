@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "accel/kdtree/build/kd_build.h"
+#include "accel/kdtree/kd_blocks.h"
 #include "io/scene.h"
 
 static tt_status validate(tt_context *ctx, const tt_kdtree_options *o)
@@ -148,6 +149,7 @@ tt_status tt_kdtree_build(tt_context *ctx, const tt_scene *scene, const tt_kdtre
     t->view.aug_count = t->aug_count;
     t->view.empty = b.tri_count == 0;
     t->fast = tt_kd_cpu_kernels(TT_ISA_SCALAR, scene->triangle_count);
+    t->fast_view = t->view;
     double sum_depth = 0.0, root_area = half_area(&root);
     measure(t, 0, &root, 0, &sum_depth);
     t->depth_mean = t->leaves ? sum_depth / t->leaves : 0.0;
@@ -159,6 +161,7 @@ tt_status tt_kdtree_build(tt_context *ctx, const tt_scene *scene, const tt_kdtre
 void tt_kdtree_destroy(tt_context *ctx, tt_kdtree *t)
 {
     if (!t) return;
+    tt_kdtree_blocks_free(ctx, t);
     tt_free(ctx, t->nodes);
     tt_free(ctx, t->refs);
     tt_free(ctx, t->aug);

@@ -32,9 +32,9 @@ TT_HD void tt_kd_best_store(const tt_kd_best *b, tt_hit *hit)
  * test, a triangle replacing the best so far only when strictly nearer.
  * Closest hit (any == 0): narrows *best, returns 0. Any hit: returns 1 at
  * the first hit on [tmin, best->t). *tested: how many triangles it tested
- * (the counting variant's statistic; a dead store elsewhere). Shared by
- * the template's leaf (kd_trace_common.h) and the gathered kernel's small
- * leaves (kd_leaf_gather.h). */
+ * (the counting variant's statistic; a dead store elsewhere). The
+ * template's leaf (kd_trace_common.h) in every variant but the AVX2 /
+ * AVX-512 fast ones (kd_leaf_block.h). */
 TT_HD int tt_kd_leaf_refs(const tt_kd_view *T, const uint32_t *refs, uint32_t count,
                           const tt_wray *r, int any, tt_kd_best *best, uint32_t *tested)
 {

@@ -56,20 +56,19 @@ int tt_kd_cpu_stackless(const tt_kd_view *T, int seq, const tt_wray *r, int any,
 
 tt_kd_kernels tt_kd_cpu_kernels(tt_isa isa, size_t triangle_count)
 {
-    tt_kd_kernels k = {tt_kd_cpu_intersect, tt_kd_cpu_occluded};
+    tt_kd_kernels k = {tt_kd_cpu_intersect, tt_kd_cpu_occluded, 0};
     (void)isa;
+    (void)triangle_count;
 #if defined(TT_HAVE_X86_KERNELS)
-    /* The gathers index tri[] with 32-bit signed element offsets 9 id + 8. */
-    if (triangle_count > (size_t)(INT32_MAX - 8) / 9u) return k;
     if (isa == TT_ISA_AVX2) {
         k.intersect = tt_kd_avx2_intersect;
         k.occluded = tt_kd_avx2_occluded;
+        k.blocks = 1;
     } else if (isa == TT_ISA_AVX512) {
         k.intersect = tt_kd_avx512_intersect;
         k.occluded = tt_kd_avx512_occluded;
+        k.blocks = 1;
     }
-#else
-    (void)triangle_count;
 #endif
     return k;
 }

@@ -25,16 +25,19 @@ typedef int (*tt_kd_occluded_fn)(const tt_kd_view *T, int traversal, const tt_wr
 typedef struct tt_kd_kernels {
     tt_kd_intersect_fn intersect;
     tt_kd_occluded_fn occluded;
+    /* 1: they read leaves from the view's blocks (kd_blocks.h), so they
+     * must be given a block view, never the tree's plain one. */
+    int blocks;
 } tt_kd_kernels;
 
-/* The kernels for a resolved isa: AVX2 and AVX-512 test leaves of four or
- * more triangles eight at a time (kd_leaf_gather.h: plain loads and a
- * transpose, once gathers); scalar and SSE4.2 the scalar loop: the
+/* The kernels for a resolved isa: AVX2 and AVX-512 test leaves eight
+ * triangles at a time from the leaf blocks of kd_blocks.h (kd_leaf_block.h;
+ * before, kd_leaf_gather.h's loads through refs[] and a transpose, once
+ * gathers); scalar and SSE4.2 the scalar loop: the
  * gathered kernel measured only level with the scalar loop when leaves
  * held about three triangles (C_I 0.5), so a four-lane one was not
  * written; with the transposed loads and the default C_I 0.2 a four-lane
- * SSE4.2 kernel may now pay (not measured). Scenes whose 9 * id overflows
- * a 32-bit index take the scalar loop (a limit of the gathers, kept). */
+ * SSE4.2 kernel may now pay (not measured). */
 tt_kd_kernels tt_kd_cpu_kernels(tt_isa isa, size_t triangle_count);
 
 #if defined(TT_HAVE_X86_KERNELS)
