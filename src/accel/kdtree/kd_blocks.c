@@ -64,6 +64,7 @@ tt_status tt_kdtree_blocks_build(tt_context *ctx, tt_kdtree *t, const float *tri
         if (!tt_kd_is_leaf(n.bits)) continue;
         const uint32_t c = tt_kd_leaf_count(n.bits);
         nodes[i].u.first = c ? next : 0u;
+        if (c == 0) continue; /* (an empty scene has no refs[] at all) */
         tt_tri_block_pack(tri, t->refs + n.u.first, c, blocks + next);
         next += tt_tri_block_count(c);
     })
