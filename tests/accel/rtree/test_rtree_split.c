@@ -69,7 +69,7 @@ static void view(tt_context *ctx, const char *file, const char *name, uint32_t s
         size_t bad = tt_test_compare_view_reference(a, ref);
         CHECK_MSG(bad == 0, "%s, split budget %g: %zu rays disagree", name, (double)budgets[b],
                   bad);
-        bad = tt_test_compare_random(scene, a, bf, 2000, 17u + (uint32_t)b);
+        bad = tt_test_compare_random(scene, a, bf, 500, 17u + (uint32_t)b);
         CHECK_MSG(bad == 0, "%s, split budget %g: %zu random rays disagree", name,
                   (double)budgets[b], bad);
         bad = packets_agree(a, &cam, 32);
@@ -121,7 +121,7 @@ static void save_load_update(tt_context *ctx)
     CHECK_MSG(tt_accel_update(a) == TT_OK, "update: %s", tt_context_last_error(ctx));
     CHECK_MSG(tt_accel_check(a) == TT_OK, "check after update: %s", tt_context_last_error(ctx));
     tt_accel *bf = tt_test_build_default(ctx, scene, "bruteforce");
-    CHECK(tt_test_compare_random(scene, a, bf, 2000, 9) == 0);
+    CHECK(tt_test_compare_random(scene, a, bf, 500, 9) == 0);
     tt_accel_destroy(bf);
     tt_accel_destroy(a);
     tt_scene_destroy(scene);
@@ -131,9 +131,9 @@ int main(void)
 {
     tt_context *ctx = tt_test_context();
     view(ctx, "cornell_box.obj", "cornell:main", 32);
-    view(ctx, "bun_zipper.ply", "bunny:main", 40);
-    view(ctx, "sibenik.obj", "sibenik:main", 40);
-    view(ctx, "conference.ply", "conference:main", 32);
+    view(ctx, "bun_zipper.ply", "bunny:main", 24);
+    view(ctx, "sibenik.obj", "sibenik:main", 24);
+    view(ctx, "conference.ply", "conference:main", 16);
     save_load_update(ctx);
     tt_context_destroy(ctx);
     return tt_test_finish();

@@ -6,8 +6,9 @@
  * same leaf are merged again (rt_bulk_levels_merge_refs), so a leaf stores
  * a triangle once; a triangle may still sit in several leaves.
  *
- * Which pieces are cut: greedily the one whose cut saves the most box
- * surface area (the SAH's measure of how often rays enter it), cut at the
+ * Which pieces are cut: of the triangles whose box is not flat (an
+ * axis-plane triangle's pieces would widen every subtree they land in),
+ * greedily the piece whose cut saves the most box surface area (the SAH's measure of how often rays enter it), cut at the
  * midpoint of whichever of its three axes saves most, until the reference
  * budget is spent or no cut saves area. The order is fixed by (saving,
  * piece number), so the references do not depend on the thread count.
