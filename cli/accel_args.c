@@ -60,6 +60,8 @@ static int parse_rtree(cli_args *a, cli_accel_args *x, const char *opt, const ch
     } else if (strcmp(opt, "--layout") == 0) {
         st = cli_parse_choice(cmd, opt, v, rtree_layouts, COUNT(rtree_layouts), &k);
         r->layout = (tt_rtree_layout)k;
+    } else if (strcmp(opt, "--split-budget") == 0) {
+        st = cli_parse_float(cmd, opt, v, 0.0, 0, 4.0, 0, &r->split_budget);
     } else if (strcmp(opt, "--reinsert-mode") == 0) {
         st = cli_parse_choice(cmd, opt, v, reinsert_modes, COUNT(reinsert_modes), &r->reinsert_far);
     } else {
@@ -109,7 +111,7 @@ int cli_accel_args_parse(cli_args *a, cli_accel_args *x, int *taken)
 {
     static const char *const rtree_opts[] = {"--build", "--layout", "--strategy", "--m", "--M",
                                              "--reinsert", "--reinsert-fraction", "--reinsert-mode",
-                                             "--split"};
+                                             "--split", "--split-budget"};
     static const char *const kd_opts[] = {"--kd-build", "--dmin", "--ct", "--ci",
                                           "--empty-bonus", "--max-depth", "--shadow-hint"};
     *taken = 1;
@@ -289,6 +291,10 @@ void cli_accel_args_help(FILE *out)
             "  --reinsert-fraction F    fraction of M+1 entries reinserted, in (0, 1) (default 0.3)\n"
             "  --reinsert-mode far|close  reinsert the farthest or closest first (default far)\n"
             "  --split rstar|quadratic  node split algorithm (default rstar)\n"
+            "  --split-budget F         sah + compact: early split clipping, cutting long\n"
+            "                           thin triangles into pieces with tighter boxes, up\n"
+            "                           to F x the triangles extra references, in [0, 4];\n"
+            "                           such a tree is rebuilt on updates (default 0: off)\n"
             "kd-tree (--accel kdtree):\n"
             "  --kd-build nlogn|nlog2n|binned  SAH builder: exact (O(N log N) or O(N log^2 N),\n"
             "                           the same tree) or binned (approximate, faster); all\n"

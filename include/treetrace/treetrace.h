@@ -229,6 +229,14 @@ typedef struct tt_rtree_options {
     int reinsert_far;           /* 1: far reinsert (default), 0: close         */
     tt_rtree_split split;
     tt_rtree_traversal traversal;
+    /* Early split clipping (SAH loader, compact layout only; the other
+     * builders ignore it): long thin triangles are cut into pieces with
+     * tighter boxes before the build, up to split_budget x the triangle
+     * count extra references; a triangle may then sit in several leaves
+     * (once a leaf), and tt_accel_update rebuilds such a tree instead of
+     * updating it in place (tt_accel_updates_in_place says 0). 0: off.
+     * Range [0, 4]; default 0. */
+    float split_budget;
 } tt_rtree_options;
 
 /* The exact SAH builders (Wald & Havran 2006) give the identical tree;

@@ -52,6 +52,7 @@ void tt_build_options_default(tt_build_options *o)
     o->rtree.reinsert_far = 1;
     o->rtree.split = TT_RTREE_SPLIT_RSTAR;
     o->rtree.traversal = TT_RTREE_AUTO;
+    o->rtree.split_budget = 0.0f; /* early split clipping: off (it did not pay everywhere) */
     o->kdtree.builder = TT_KD_NLOGN;
     o->kdtree.dmin = 0; /* auto: see tt_kdtree_options */
     o->kdtree.cost_traversal = 1.0f;

@@ -381,7 +381,7 @@ void tt_af_options_pack(const tt_build_options *o, uint32_t w[TT_AF_OPTION_WORDS
         (uint32_t)r->split,       (uint32_t)r->traversal,    (uint32_t)k->builder,
         (uint32_t)k->dmin,        fbits(k->cost_traversal),  fbits(k->cost_intersect),
         fbits(k->empty_bonus),    (uint32_t)k->max_depth,    (uint32_t)k->traversal,
-        (uint32_t)k->shadow_caster_hint, (uint32_t)o->embree.quality};
+        (uint32_t)k->shadow_caster_hint, (uint32_t)o->embree.quality, fbits(r->split_budget)};
     memcpy(w, v, sizeof v);
 }
 
@@ -393,7 +393,8 @@ tt_status tt_af_options_unpack(tt_context *ctx, const tt_af_file *f,
     if (w[0] > TT_ISA_AVX512 || w[1] > TT_RTREE_BUILD_SAH || w[2] > TT_RTREE_LAYOUT_COMPACT ||
         w[3] > TT_RTREE_RSTAR_SURFACE || w[9] > TT_RTREE_SPLIT_QUADRATIC ||
         w[10] > TT_RTREE_STACK || w[11] > TT_KD_BINNED || w[17] > TT_KD_SEQ || w[19] > TT_EMBREE_LOW ||
-        w[4] > 64 || w[5] > 64 || w[6] > 1 || w[8] > 1 || w[18] > 1)
+        w[4] > 64 || w[5] > 64 || w[6] > 1 || w[8] > 1 || w[18] > 1 ||
+        !(bitsf(w[20]) >= 0.0f && bitsf(w[20]) <= 4.0f))
         return tt_af_bad(ctx, f, "the build options section holds an out-of-range value");
     o->isa = (tt_isa)w[0];
     r->build = (tt_rtree_build)w[1];
@@ -415,5 +416,6 @@ tt_status tt_af_options_unpack(tt_context *ctx, const tt_af_file *f,
     k->traversal = (tt_kd_traversal)w[17];
     k->shadow_caster_hint = (int)w[18];
     o->embree.quality = (tt_embree_quality)w[19];
+    r->split_budget = bitsf(w[20]);
     return TT_OK;
 }

@@ -20,7 +20,7 @@
 #define TT_AF_ENDIAN 0x01020304u
 /* The container's version; a structure's own record format has its own
  * (layout_version), so either can change alone. */
-#define TT_AF_VERSION 1u
+#define TT_AF_VERSION 2u /* 2: the options gained split_budget */
 #define TT_AF_HEADER_BYTES 256u
 #define TT_AF_ALIGN 64u
 #define TT_AF_MAX_SECTIONS 64u
@@ -134,7 +134,7 @@ tt_status tt_af_bad(tt_context *ctx, const tt_af_file *f, const char *fmt, ...)
     TT_PRINTF(3, 4);
 
 /* The build options as a section of 32-bit words (fixed order; docs). */
-#define TT_AF_OPTION_WORDS 20u
+#define TT_AF_OPTION_WORDS 21u
 void tt_af_options_pack(const tt_build_options *o, uint32_t out[TT_AF_OPTION_WORDS]);
 /* Unpacks into *o (accel left as is) and checks every enum's range. */
 tt_status tt_af_options_unpack(tt_context *ctx, const tt_af_file *f,

@@ -29,6 +29,11 @@ typedef struct rtc_tree {
     tt_rtc c;
     void *node_mem, *block_mem; /* the allocations behind c.node, c.block */
     int m;                      /* the fill minimum the check enforces */
+    /* 1: built with split references (rtree_split_refs.h): a triangle may
+     * sit in several leaves (once a leaf), each leaf box bounds the parts
+     * of its triangles in it (not their whole boxes); never updated in
+     * place. Set by the build, and on load when lanes outnumber triangles. */
+    int split;
     tt_rtc_trace_fn trace, trace_stats;
     /* NULL where this ISA has no packet kernel (scalar, SSE4.2) or the
      * traversal is the stackless one: the rays then go one by one */

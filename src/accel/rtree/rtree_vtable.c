@@ -6,6 +6,7 @@
 #include "accel/rtree/rtree.h"
 #include "accel/rtree/rtree_box.h"
 #include "accel/rtree/build/rtree_bulk.h"
+#include "accel/rtree/build/rtree_split_refs.h"
 #include "accel/rtree/update/rtree_dyn.h"
 #include "accel/rtree/rtree_io.h"
 
@@ -34,6 +35,9 @@ static tt_status validate(tt_context *ctx, const tt_rtree_options *o)
     if ((unsigned)o->traversal > TT_RTREE_STACK)
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "rtree: unknown traversal %d",
                         (int)o->traversal);
+    if (!(o->split_budget >= 0.0f && o->split_budget <= 4.0f))
+        return tt_error(ctx, TT_ERR_INVALID_ARGUMENT,
+                        "rtree: split_budget = %g is out of range [0, 4]", (double)o->split_budget);
     if ((unsigned)o->layout > TT_RTREE_LAYOUT_COMPACT)
         return tt_error(ctx, TT_ERR_INVALID_ARGUMENT, "rtree: unknown layout %d", (int)o->layout);
     if (o->M < 4 || o->M > TT_RT_MAX_M)
@@ -116,11 +120,24 @@ static tt_status rtree_build(tt_accel *a)
     if (o->build == TT_RTREE_BUILD_SAH && t->layout == TT_RTREE_LAYOUT_COMPACT &&
         T > (uint32_t)o->M) {
         rt_bulk_levels lv;
-        st = rt_bulk_sah_levels(&lv, a->ctx, o, tri_box, T);
+        memset(&lv, 0, sizeof lv);
+        /* early split clipping: the loader builds over references, then a
+         * leaf's references of one triangle become that triangle once */
+        rt_refs refs = {NULL, NULL, 0};
+        if (o->split_budget > 0.0f)
+            st = rt_split_refs(a->ctx, scene->tri, tri_box, T, o->split_budget, &refs);
+        const int split = st == TT_OK && refs.count > T;
+        if (st == TT_OK)
+            st = rt_bulk_sah_levels(&lv, a->ctx, o, split ? refs.box : tri_box,
+                                    split ? refs.count : T);
+        if (st == TT_OK && split) rt_bulk_levels_merge_refs(&lv, refs.tri, T);
+        rt_refs_free(a->ctx, &refs);
         double t1 = tt_now();
         if (st == TT_OK) {
             st = rtc_pack_levels(a->ctx, &lv, scene->tri, &t->compact);
             rtc_select(&t->compact, (int)o->traversal, a->isa);
+            t->compact.split = split;
+            if (split) t->compact.m = 1; /* merged leaves may hold fewer than m */
         }
         double t2 = tt_now();
         rt_bulk_levels_free(a->ctx, &lv);
@@ -310,17 +327,20 @@ static size_t rtree_memory(const tt_accel *a)
 /* ------------------------------------------------------------- update */
 
 /* In place for the compact layout (rtree/update/); the complete layout's
- * level-order array has no room to change, so it is rebuilt. */
+ * level-order array has no room to change, so it is rebuilt. So is a tree
+ * built with split references (split_budget): the update code maps a
+ * triangle to its one lane and would leave a moved triangle's other
+ * references behind. */
 static int rtree_updates_in_place(const tt_accel *a)
 {
     const rt_tree *t = a->impl;
-    return t->layout == TT_RTREE_LAYOUT_COMPACT;
+    return t->layout == TT_RTREE_LAYOUT_COMPACT && !t->compact.split;
 }
 
 static tt_status rtree_update(tt_accel *a, uint64_t since)
 {
     rt_tree *t = a->impl;
-    if (t->layout != TT_RTREE_LAYOUT_COMPACT) return TT_ERR_UNSUPPORTED;
+    if (!rtree_updates_in_place(a)) return TT_ERR_UNSUPPORTED;
     if (!t->dyn) {
         rt_dyn *d = tt_calloc(a->ctx, 1, sizeof *d);
         if (!d) return tt_error(a->ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");

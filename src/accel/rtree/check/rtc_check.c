@@ -19,6 +19,12 @@
  *     with no id;
  *  5. records the walk does not reach are free (tt_rtc_is_free): the slack
  *     of a layout updated in place (rtree/update/).
+ * A tree built with split references (rtc_tree.split) differs in 3 and 4:
+ * a triangle may sit in several leaves, once in each; a leaf's box lies
+ * inside the union of its triangles' boxes and meets each of them, and the
+ * parts of a triangle's box inside its leaves' boxes make up the whole
+ * triangle box (a necessary condition for the pieces to cover the
+ * triangle); leaves hold 1..M triangles.
  * Mixed records (the wide BVH's, wbvh/wbvh.h: the root's level field 0):
  * every record says level 0 and lies at most `height` records deep; its
  * leaf entries come first, its node entries after them (consecutive
@@ -37,13 +43,27 @@ typedef struct walk {
     uint8_t *reached; /* per node */
     uint8_t *seen;    /* per triangle id */
     uint8_t *lane_owned; /* per triangle lane of the blocks */
+    float *cover;        /* split trees: per triangle, its box's part in its leaves */
     int mixed;           /* mixed records: levels count down the depth left */
 } walk;
 
 #define FAIL(...) tt_error(w->ctx, TT_ERR_INVARIANT, __VA_ARGS__)
 
-/* 4: the leaf `ref` (entry i of node n); *box gets its triangles' union. */
-static tt_status check_leaf(walk *w, uint32_t n, uint32_t i, uint32_t ref, int lone, float box[6])
+/* The intersection of two boxes into out; 0 when they do not meet. */
+static int box_meet(const float a[6], const float b[6], float out[6])
+{
+    for (int k = 0; k < 3; k++) {
+        out[k] = rt_max(a[k], b[k]);
+        out[k + 3] = rt_min(a[k + 3], b[k + 3]);
+        if (out[k] > out[k + 3]) return 0;
+    }
+    return 1;
+}
+
+/* 4: the leaf `ref` (entry i of node n, whose box is lb); *box gets its
+ * triangles' union. */
+static tt_status check_leaf(walk *w, uint32_t n, uint32_t i, uint32_t ref, int lone,
+                            const float lb[6], float box[6])
 {
     const tt_rtc *c = &w->t->c;
     uint32_t nb;
@@ -71,9 +91,16 @@ static tt_status check_leaf(walk *w, uint32_t n, uint32_t i, uint32_t ref, int l
         if (id >= w->scene->triangle_count)
             return FAIL("rtree compact: leaf %u of node %u holds triangle id %u, the scene has "
                         "%zu", i, n, id, w->scene->triangle_count);
-        if (w->seen[id]++)
+        if (w->cover) { /* split: once in this leaf, maybe in others */
+            for (uint32_t q = 0; q < k; q++)
+                if (c->block[(first + q) / TT_TRI_BLOCK_W].prim[(first + q) % TT_TRI_BLOCK_W] == id)
+                    return FAIL("rtree compact: triangle %u is stored twice in leaf %u of node %u",
+                                id, i, n);
+            if (w->seen[id] < 255) w->seen[id]++;
+        } else if (w->seen[id]++) {
             return FAIL("rtree compact: triangle %u is stored twice (again in leaf %u of node "
                         "%u)", id, i, n);
+        }
         const float *v = w->scene->tri + 9 * (size_t)id;
         const int dead = tt_tri_is_degenerate(v, v + 3, v + 6);
         for (int q = 0; q < 9; q++) {
@@ -82,11 +109,21 @@ static tt_status check_leaf(walk *w, uint32_t n, uint32_t i, uint32_t ref, int l
                 return FAIL("rtree compact: leaf %u of node %u: the stored vertices of triangle "
                             "%u differ from the scene's", i, n, id);
         }
+        float tb[6];
+        rt_box_empty(tb);
         for (int q = 0; q < 3; q++)
             for (int a = 0; a < 3; a++) {
-                box[a] = rt_min(box[a], v[3 * q + a]);
-                box[a + 3] = rt_max(box[a + 3], v[3 * q + a]);
+                tb[a] = rt_min(tb[a], v[3 * q + a]);
+                tb[a + 3] = rt_max(tb[a + 3], v[3 * q + a]);
             }
+        rt_box_grow(box, tb);
+        if (w->cover) {
+            float part[6];
+            if (!box_meet(lb, tb, part))
+                return FAIL("rtree compact: the box of leaf %u of node %u misses triangle %u's",
+                            i, n, id);
+            rt_box_grow(w->cover + 6 * (size_t)id, part);
+        }
     }
     return TT_OK;
 }
@@ -157,12 +194,17 @@ static tt_status check_node(walk *w, uint32_t n, uint32_t l, uint32_t parent, fl
         float content[6];
         tt_status st;
         if (w->mixed ? i < leaves : l == 1) {
-            st = check_leaf(w, n, i, ref[i], is_root && cnt == 1, content);
+            st = check_leaf(w, n, i, ref[i], is_root && cnt == 1, cb, content);
         } else {
             st = check_node(w, ref[i], l - 1, n, content);
         }
         if (st != TT_OK) return st;
-        if (!rt_box_equal(cb, content))
+        float in[6];
+        if (w->cover && (w->mixed ? i < leaves : l == 1)) {
+            if (!box_meet(cb, content, in) || !rt_box_equal(in, cb))
+                return FAIL("rtree compact: the box of leaf %u of node %u reaches past its "
+                            "triangles' boxes", i, n);
+        } else if (!rt_box_equal(cb, content))
             return FAIL("rtree compact: the box of entry %u of node %u (level %u) is not the "
                         "exact union of its content", i, n, l);
         rt_box_grow(box, cb);
@@ -173,7 +215,7 @@ static tt_status check_node(walk *w, uint32_t n, uint32_t l, uint32_t parent, fl
 tt_status rtc_check(tt_context *ctx, const rtc_tree *t, const tt_scene *scene)
 {
     const tt_rtc *c = &t->c;
-    walk w = {ctx, t, scene, NULL, NULL, NULL, 0};
+    walk w = {ctx, t, scene, NULL, NULL, NULL, NULL, 0};
     /* a tree updated in place holds the live triangles; a built one every
      * id slot (removed ones as points, io/scene.h) */
     if (c->triangles > scene->triangle_count || c->triangles < tt_scene_live_triangle_count(scene))
@@ -188,8 +230,14 @@ tt_status rtc_check(tt_context *ctx, const rtc_tree *t, const tt_scene *scene)
     w.reached = tt_calloc(ctx, c->nodes, 1);
     w.seen = tt_calloc(ctx, scene->triangle_count ? scene->triangle_count : 1, 1);
     w.lane_owned = tt_calloc(ctx, (size_t)c->blocks * TT_TRI_BLOCK_W + 1, 1);
+    if (t->split) {
+        w.cover = tt_alloc_array(ctx, scene->triangle_count ? scene->triangle_count : 1,
+                                 6 * sizeof(float));
+        for (size_t id = 0; w.cover && id < scene->triangle_count; id++)
+            rt_box_empty(w.cover + 6 * id);
+    }
     tt_status st = TT_OK;
-    if (!w.reached || !w.seen || !w.lane_owned)
+    if (!w.reached || !w.seen || !w.lane_owned || (t->split && !w.cover))
         st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree compact check: out of memory");
     float root[6];
     w.mixed = c->nodes > 0 && tt_rtc_level(c, tt_rtc_node(c, 0)) == 0;
@@ -201,10 +249,23 @@ tt_status rtc_check(tt_context *ctx, const rtc_tree *t, const tt_scene *scene)
     if (st == TT_OK) st = check_free_lanes(&w);
     size_t stored = 0;
     for (size_t id = 0; st == TT_OK && id < scene->triangle_count; id++) {
-        stored += w.seen[id];
+        stored += w.seen[id] != 0;
         if (!w.seen[id] && !tt_scene_is_dead(scene, id))
             st = tt_error(ctx, TT_ERR_INVARIANT, "rtree compact: triangle %zu is not in the tree",
                           id);
+        if (st == TT_OK && w.cover && w.seen[id]) {
+            const float *v = scene->tri + 9 * id;
+            float tb[6];
+            rt_box_empty(tb);
+            for (int q = 0; q < 3; q++)
+                for (int a = 0; a < 3; a++) {
+                    tb[a] = rt_min(tb[a], v[3 * q + a]);
+                    tb[a + 3] = rt_max(tb[a + 3], v[3 * q + a]);
+                }
+            if (!rt_box_equal(tb, w.cover + 6 * id))
+                st = tt_error(ctx, TT_ERR_INVARIANT, "rtree compact: the leaves of triangle %zu "
+                              "do not cover its box", id);
+        }
     }
     if (st == TT_OK && stored != c->triangles)
         st = tt_error(ctx, TT_ERR_INVARIANT, "rtree compact: %zu triangles stored, the header "
@@ -212,5 +273,6 @@ tt_status rtc_check(tt_context *ctx, const rtc_tree *t, const tt_scene *scene)
     tt_free(ctx, w.reached);
     tt_free(ctx, w.seen);
     tt_free(ctx, w.lane_owned);
+    tt_free(ctx, w.cover);
     return st;
 }

@@ -71,6 +71,8 @@ void rtc_statistics(const rtc_tree *t, tt_stat_fn fn, void *user)
     const double bytes = (double)rtc_bytes(t);
     fn(user, "layout_compact", 1.0);
     fn(user, "triangles", c->triangles);
+    /* leaf entries: more than the triangles when built with split references */
+    fn(user, "references", ap->leaf_triangles);
     fn(user, "M", c->M);
     fn(user, "m", t->m);
     fn(user, "height", c->height + 1);

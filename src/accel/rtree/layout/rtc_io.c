@@ -111,12 +111,17 @@ tt_status rtc_io_load(tt_context *ctx, const tt_af_file *f, uint32_t triangles, 
     c->node = node;
     c->block = block;
     for (uint32_t n = 0; n < c->nodes && st == TT_OK; n++) st = check_node(ctx, f, c, n);
+    uint64_t lanes = 0;
     for (uint32_t b = 0; b < c->blocks && st == TT_OK; b++)
-        for (int i = 0; i < TT_TRI_BLOCK_W; i++)
+        for (int i = 0; i < TT_TRI_BLOCK_W; i++) {
+            lanes += c->block[b].prim[i] != TT_INVALID_ID;
             if (c->block[b].prim[i] >= triangles && c->block[b].prim[i] != TT_INVALID_ID) {
                 st = tt_af_bad(ctx, f, "block %u lane %d: triangle %u of %u", b, i,
                                c->block[b].prim[i], triangles);
                 break;
             }
+        }
+    /* more references than triangles: built with split references */
+    t->split = lanes > c->triangles;
     return st;
 }
