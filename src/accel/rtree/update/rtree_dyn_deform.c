@@ -53,7 +53,7 @@ static inline void deform_leaf(rt_dyn *d, tt_tri_block *blk, const float *tri, u
             hi[k] = rt_max(hi[k], rt_max(rt_max(v[k], v[3 + k]), v[6 + k]));
         }
 #endif
-        if (rt_dyn_degenerate(v, v + 3, v + 6)) { /* rare: its box again, scalar */
+        if (tt_tri_is_degenerate(v, v + 3, v + 6)) { /* rare: its box again, scalar */
             float *bx = d->tri_box + 6 * (size_t)id;
             for (int k = 0; k < 3; k++) {
                 bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
