@@ -73,7 +73,17 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
         d->ids_cap = T;
     }
     uint32_t *ids = d->ids;
-    for (size_t id = 0; id < T; id++) {
+    const uint64_t *stamp = scene->stamp;
+    const uint8_t *flags = scene->flags;
+    const uint32_t *leaf_of = d->leaf_of;
+    if (!sweep && flags) { /* every frame after the first: the tight loop */
+        for (size_t id = 0; id < T; id++) {
+            if (stamp[id] <= since) continue;
+            ids[changed++] = (uint32_t)id;
+            moved += ((flags[id] & TT_TRI_DEAD) == 0) & (leaf_of[id] != TT_INVALID_ID);
+        }
+    }
+    for (size_t id = 0; id < T && (sweep || !flags); id++) {
         if (scene->stamp[id] <= since &&
             !(sweep && d->leaf_of[id] != TT_INVALID_ID && tt_scene_is_dead(scene, id)))
             continue;
