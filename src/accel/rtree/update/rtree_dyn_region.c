@@ -185,20 +185,26 @@ tt_status rt_dyn_region_write(rt_dyn *d, const tt_rtc *c, const tt_scene *scene,
     /* 0: to place; 1: in its slot, lanes to write (touched); 2: in its
      * slot, lanes as they are; 3: placed again where it was, lanes as they
      * are */
-    uint8_t keep[TT_RT_CAP];
-    int place = 0;
-    /* 1. the leaves that keep their slots (entry 0 only in block 0); a
-     *    leaf with a slot here has grp_of set (rt_dyn_region_need dropped
-     *    those of leaves from elsewhere) */
+    uint8_t keep[TT_RT_CAP], work[TT_RT_CAP];
+    int place = 0, nw = 0;
+    const uint8_t *touched = d->touched;
+    const uint32_t tcap = d->touched_cap;
+    /* 1. the leaves that keep their slots (entry 0 only in block 0), their
+     *    references; a leaf with a slot here has grp_of set
+     *    (rt_dyn_region_need dropped those of leaves from elsewhere). On
+     *    an edits frame most leaves of a touched region are untouched and
+     *    cost only this loop. */
     for (int i = 0; i < cnt; i++) {
-        const uint32_t l = ch[i], g = d->grp_of[l];
-        keep[i] = !fresh && g != TT_INVALID_ID && b->hdr[l].count <= d->grp_hi[l] &&
-                  (i > 0 || g - base < W);
-        if (keep[i]) {
+        const uint32_t l = ch[i], g = d->grp_of[l], k = b->hdr[l].count;
+        int kp = !fresh && g != TT_INVALID_ID && k <= d->grp_hi[l] && (i > 0 || g - base < W);
+        if (kp) {
             slot[i] = (uint32_t)(g - base);
-            keep[i] = l < d->touched_cap && d->touched[l] ? 1 : 2;
+            ref[i] = tt_rtc_leaf_ref(g / W, g % W, k);
+            kp = l < tcap && touched[l] ? 1 : 2;
         }
-        place += !keep[i];
+        keep[i] = (uint8_t)kp;
+        place += !kp;
+        if (kp != 2) work[nw++] = (uint8_t)i;
     }
     /* 2. the others into free slots, entry 0 into block 0; none free: the
      *    region laid out again (a leaf that lands where it was, untouched,
@@ -211,38 +217,39 @@ tt_status rt_dyn_region_write(rt_dyn *d, const tt_rtc *c, const tt_scene *scene,
         int ok = 1;
         for (int i = 0; i < cnt && ok; i++) {
             if (keep[i]) continue;
-            const uint32_t s = slot_lanes(b->hdr[ch[i]].count);
-            const int at = find_slot(set, s, i == 0 ? 1 : lim);
+            const uint32_t sl = slot_lanes(b->hdr[ch[i]].count);
+            const int at = find_slot(set, sl, i == 0 ? 1 : lim);
             ok = at >= 0;
             if (!ok) break;
             slot[i] = (uint32_t)at;
-            set_add(set, slot[i], s);
+            set_add(set, slot[i], sl);
         }
         if (!ok) {
-            if (!lay_out(b, n, blocks, lim, slot, set))
-                return tt_error(b->ctx, TT_ERR_INTERNAL,
-                                "rtree update: the leaves of node %u do not fit its region of "
-                                "%u blocks",
-                                n, blocks);
-            for (int i = 0; i < cnt; i++) /* every slot handed out again */
+            if (!lay_out(b, n, blocks, lim, slot, set)) return 0;
+            nw = 0;
+            for (int i = 0; i < cnt; i++) { /* every slot handed out again */
                 keep[i] = keep[i] == 2 && base + slot[i] == d->grp_of[ch[i]] ? 3 : 0;
+                work[nw++] = (uint8_t)i;
+            }
         }
         /* the old slots of the leaves that move cleared before any lane
          * is written (a new slot may overlap one) */
-        for (int i = 0; i < cnt && !fresh; i++) {
-            const uint32_t l = ch[i];
-            if (keep[i] == 0 && d->grp_of[l] != TT_INVALID_ID)
+        for (int j = 0; j < nw && !fresh; j++) {
+            const uint32_t l = ch[work[j]];
+            if (keep[work[j]] == 0 && d->grp_of[l] != TT_INVALID_ID)
                 slot_clear(c, d->grp_of[l], d->grp_hi[l]);
         }
     }
-    /* 3. the leaves' lanes, slots and references */
+    /* 3. the lanes, slots and references of the leaves that changed or
+     *    moved */
     tt_tri_block *blk = (tt_tri_block *)c->block;
-    for (int i = 0; i < cnt; i++) {
+    for (int j = 0; j < nw; j++) {
+        const int i = work[j];
         const uint32_t l = ch[i], k = b->hdr[l].count, *id = rt_node_child(b, l);
         const uint64_t g0 = base + slot[i];
         ref[i] = tt_rtc_leaf_ref((uint32_t)(g0 / W), (uint32_t)(g0 % W), k);
-        if (keep[i] >= 2) {
-            if (keep[i] == 3) d->grp_hi[l] = (uint8_t)slot_lanes(k);
+        if (keep[i] == 3) {
+            d->grp_hi[l] = (uint8_t)slot_lanes(k);
             continue;
         }
         for (uint32_t q = 0; q < k; q++) {
