@@ -135,16 +135,19 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
     for (size_t i = 0; i < changed && st == TT_OK && !deform; i++) {
         const uint32_t id = ids[i];
         if (tt_scene_is_dead(scene, id) || d->leaf_of[id] == TT_INVALID_ID) continue;
-        float nb[6];
-        tri_bounds(scene->tri + 9 * (size_t)id, nb);
-        /* an id reused by an addition is a new triangle; a moved one that
-         * would grow its leaf's surface by more than a quarter (or jumped
-         * away) is better placed again than refit where it was */
-        float lb[6], grown[6];
-        rt_node_bounds(&d->b, d->leaf_of[id], lb);
-        memcpy(grown, lb, sizeof grown);
-        rt_box_grow(grown, nb);
+        /* an id reused by an addition is a new triangle (an edits frame's
+         * additions reuse its removals' ids: decided before any box is
+         * computed); a moved one that would grow its leaf's surface by
+         * more than a quarter (or jumped away) is better placed again than
+         * refit where it was */
         const int reborn = scene->born[id] > since;
+        float nb[6], lb[6], grown[6];
+        if (!reborn) {
+            tri_bounds(scene->tri + 9 * (size_t)id, nb);
+            rt_node_bounds(&d->b, d->leaf_of[id], lb);
+            memcpy(grown, lb, sizeof grown);
+            rt_box_grow(grown, nb);
+        }
         if (reborn || rt_box_area(grown) > 1.25f * rt_box_area(lb) ||
             jumped(d->tri_box + 6 * (size_t)id, nb)) {
             again[i] = 1;
