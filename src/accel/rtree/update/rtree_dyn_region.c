@@ -90,8 +90,12 @@ uint32_t rt_dyn_region_need(rt_dyn *d, const tt_rtc *c, uint32_t n)
 }
 
 /* Lanes [first, first + lanes) into the set. */
-static void set_add(uint64_t *set, uint32_t first, uint32_t lanes)
+static inline void set_add(uint64_t *set, uint32_t first, uint32_t lanes)
 {
+    if ((first & 63) + lanes < 64) { /* every slot up to a block */
+        set[first >> 6] |= ((1ull << lanes) - 1) << (first & 63);
+        return;
+    }
     while (lanes) {
         const uint32_t room = 64 - (first & 63), n = lanes < room ? lanes : room;
         set[first >> 6] |= (n == 64 ? ~0ull : (1ull << n) - 1) << (first & 63);
