@@ -37,12 +37,15 @@ static inline void deform_leaf(rt_dyn *d, tt_tri_block *blk, const float *tri, u
     for (uint64_t g = g0; g < g0 + cnt; g++) {
         tt_tri_block *bk = blk + g / TT_TRI_BLOCK_W;
         const uint32_t l = (uint32_t)(g % TT_TRI_BLOCK_W), id = bk->prim[l];
-        float v[12];
-        memcpy(v, tri + 9 * (size_t)id, 9 * sizeof(float));
-        v[9] = v[10] = v[11] = 0.0f;
+        const float *v = tri + 9 * (size_t)id;
 #if defined(__SSE2__)
-        /* a corner a vector load: the same min / max per coordinate */
-        const __m128 p0 = _mm_loadu_ps(v), p1 = _mm_loadu_ps(v + 3), p2 = _mm_loadu_ps(v + 6);
+        /* a corner a vector load (the third one ending at the triangle's
+         * last float, shifted down): the same min / max per coordinate;
+         * lane 3 is unused. Loaded straight from the scene: a copy into a
+         * padded buffer first cost a store-to-load forwarding stall a
+         * triangle */
+        const __m128 p0 = _mm_loadu_ps(v), p1 = _mm_loadu_ps(v + 3), p2r = _mm_loadu_ps(v + 5);
+        const __m128 p2 = _mm_shuffle_ps(p2r, p2r, _MM_SHUFFLE(3, 3, 2, 1));
         const __m128 mn = _mm_min_ps(_mm_min_ps(p0, p1), p2);
         const __m128 mx = _mm_max_ps(_mm_max_ps(p0, p1), p2);
         lo = _mm_min_ps(lo, mn);
