@@ -86,7 +86,8 @@ typedef struct rt_dyn {
     uint64_t last_refit, last_removed, last_inserted, last_moved_far, updates, repacks;
     /* compactions: full rewrites of the slack layout (the first, a change
      * of height, or free groups / regions past RT_DYN_COMPACT_FREE of it);
-     * last_records / last_blocks: what the last sync wrote */
+     * last_records / last_blocks: what the last sync wrote (blocks: a
+     * leaf's slot's blocks for every leaf whose lanes it wrote) */
     uint64_t compactions, last_records, last_blocks;
     double last_tree_s, last_layout_s;
     int must_repack; /* the layout's boxes predate the tree's (first update) */

@@ -266,6 +266,7 @@ tt_status rt_dyn_region_write(rt_dyn *d, const tt_rtc *c, const tt_scene *scene,
             bk->prim[lane] = id[q];
             d->lane_of[id[q]] = (uint32_t)g;
         }
+        d->last_blocks += tt_tri_block_count(k); /* its slot's blocks, written */
         if (keep[i] == 1) { /* it may have shrunk: the rest of its slot */
             slot_clear(c, g0 + k, d->grp_hi[l] - k);
         } else {
@@ -274,6 +275,5 @@ tt_status rt_dyn_region_write(rt_dyn *d, const tt_rtc *c, const tt_scene *scene,
             d->rec_of[l] = n;
         }
     }
-    d->last_blocks += blocks;
     return TT_OK;
 }
