@@ -108,7 +108,7 @@ static inline void set_add(uint64_t *set, uint32_t first, uint32_t lanes)
 static void set_start(uint64_t *set, uint32_t blocks)
 {
     memset(set, 0, SET_WORDS * sizeof *set);
-    set_add(set, blocks * W, REGION_LANES - blocks * W);
+    if (blocks * W < REGION_LANES) set_add(set, blocks * W, REGION_LANES - blocks * W);
 }
 
 /* The lowest free slot of `lanes` lanes starting in blocks [0, lim), or
