@@ -3,15 +3,6 @@
 
 #include <math.h>
 
-int tt_tri_is_degenerate(const float *a, const float *b, const float *c)
-{
-    /* The very expression tt_intersect_triangle refuses a hit with. */
-    const float e1x = b[0] - a[0], e1y = b[1] - a[1], e1z = b[2] - a[2];
-    const float e2x = c[0] - a[0], e2y = c[1] - a[1], e2z = c[2] - a[2];
-    return e1y * e2z - e1z * e2y == 0.0f && e1z * e2x - e1x * e2z == 0.0f &&
-           e1x * e2y - e1y * e2x == 0.0f;
-}
-
 void tt_tri_block_pack(const float *tri, const uint32_t *ids, uint32_t n, tt_tri_block *out)
 {
     const uint32_t blocks = tt_tri_block_count(n);

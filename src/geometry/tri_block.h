@@ -57,7 +57,18 @@ void tt_tri_block_pack(const float *tri, const uint32_t *ids, uint32_t n, tt_tri
 
 /* 1 when triangle (a, b, c) can never be hit by tt_intersect_triangle
  * (its unsheared normal is exactly zero in float). */
-int tt_tri_is_degenerate(const float *a, const float *b, const float *c);
+static inline int tt_tri_is_degenerate(const float *a, const float *b, const float *c)
+{
+    /* The very expression tt_intersect_triangle refuses a hit with;
+     * inline for the R-tree update's lane writers (a call there clobbered
+     * the deformation's leaf union kept in vector registers). Every unit
+     * is compiled without contraction (-ffp-contract=off where FMA is
+     * allowed), so every caller gets the same answer. */
+    const float e1x = b[0] - a[0], e1y = b[1] - a[1], e1z = b[2] - a[2];
+    const float e2x = c[0] - a[0], e2y = c[1] - a[1], e2z = c[2] - a[2];
+    return e1y * e2z - e1z * e2y == 0.0f && e1z * e2x - e1x * e2z == 0.0f &&
+           e1x * e2y - e1y * e2x == 0.0f;
+}
 
 /* The tie rule of every closest-hit block kernel: a candidate replaces the
  * hit so far when nearer, or at equal t when its id is smaller; with no hit

@@ -29,6 +29,8 @@ struct tt_scene {
     uint64_t *born;        /* per triangle: version of its last addition (an id
                               reused by an addition is a new triangle)         */
     uint8_t *flags;        /* per triangle: TT_TRI_DEAD, TT_TRI_OWN            */
+    uint64_t structural;   /* version of the last addition or removal (0: none):
+                              an update since then sees no id come or go      */
     size_t triangle_cap, vertex_cap, live_count;
     uint32_t *free_ids;    /* removed ids, reused last removed first           */
     size_t free_count, free_cap;

@@ -210,6 +210,7 @@ tt_status tt_scene_add_triangles(tt_scene *s, const float *tri, size_t n, uint32
         s->live_count++;
         if (ids) ids[i] = (uint32_t)t;
     }
+    s->structural = v;
     return end(s, TT_OK);
 }
 
@@ -251,6 +252,7 @@ tt_status tt_scene_remove_triangles(tt_scene *s, const uint32_t *ids, size_t n)
         s->free_ids[s->free_count++] = t;
         s->live_count--;
     }
+    s->structural = v;
     if (shrink) recompute_bounds(s);
     return end(s, TT_OK);
 }

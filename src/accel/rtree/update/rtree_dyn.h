@@ -23,18 +23,6 @@
  * and `treetrace info`). */
 #define RT_DYN_COMPACT_FREE 4
 
-/* tt_tri_is_degenerate's expression (the one rtc_pack stores a triangle
- * as NaN by), inline for the update's lane writers: a call clobbered the
- * deformation's leaf union kept in vector registers. Same flags as
- * tri_block.c (generic, no contraction), so the same answer. */
-static inline int rt_dyn_degenerate(const float *a, const float *b, const float *c)
-{
-    const float e1x = b[0] - a[0], e1y = b[1] - a[1], e1z = b[2] - a[2];
-    const float e2x = c[0] - a[0], e2y = c[1] - a[1], e2z = c[2] - a[2];
-    return e1y * e2z - e1z * e2y == 0.0f && e1z * e2x - e1x * e2z == 0.0f &&
-           e1x * e2y - e1y * e2x == 0.0f;
-}
-
 typedef struct rt_dyn {
     rt_builder b;
     float *tri_box;      /* 6 floats an id: the box the tree holds it with  */
@@ -51,24 +39,31 @@ typedef struct rt_dyn {
     /* The slack layout (rtree_dyn_compact.c), which in-place updates keep:
      * every node above level 1 owns a group of M consecutive records for
      * its children; every level-1 node a region of 2^k blocks (k: grp_hi)
-     * into which its leaves are packed as rtc_pack packs them (first fit,
-     * in entry order). An entry added or removed rewrites its node's
-     * record and, on level 1, its region; a region too small (or four
-     * times too big) is exchanged for one of the right size. grp_of[node]
-     * the group's first record / the region's first block; grp_hi[node]
-     * the group's slots written (those past the count are cleared on a
-     * shrink) / the region's size class. Groups and regions of freed
+     * in which each of its leaves owns a slot of lanes
+     * (rtree_dyn_region.c). An entry added or removed rewrites its node's
+     * record and, on level 1, the lanes of the leaves that changed; a
+     * region too small (or four times too big) is exchanged for one of the
+     * right size. grp_of[node] the group's first record / the region's
+     * first block / a leaf's slot's first lane; grp_hi[node] the group's
+     * slots written (those past the count are cleared on a shrink) / the
+     * region's size class (| RT_DYN_REGION_FRESH: new, no slot in it
+     * holds yet) / the slot's lanes. Groups and regions of freed
      * nodes wait in pend_* until the next sync clears them, then in free_*
      * (regions by class) for reuse. */
     uint32_t *grp_of;
     uint8_t *grp_hi;
     uint32_t *free_grp, free_grp_count, free_grp_cap;
 #define RT_DYN_REGION_CLASSES 6 /* 1 .. 32 = 2 M blocks */
+#define RT_DYN_REGION_FRESH 0x80u
+#define RT_DYN_SLOT_LANE_BITS 27 /* TT_RTC_LEAF_BLOCK_BITS + 3: every lane */
+#define RT_DYN_SLOT_LANE_MASK ((1u << RT_DYN_SLOT_LANE_BITS) - 1)
     uint32_t *free_reg[RT_DYN_REGION_CLASSES], free_reg_count[RT_DYN_REGION_CLASSES],
         free_reg_cap[RT_DYN_REGION_CLASSES];
     uint64_t free_reg_blocks;
     uint32_t *pend_grp, pend_grp_count, pend_grp_cap;
     uint32_t *pend_reg, pend_reg_count, pend_reg_cap; /* block | class << 26 */
+    /* freed leaves' slots: lane | (lanes - 1) << RT_DYN_SLOT_LANE_BITS */
+    uint32_t *pend_slot, pend_slot_count, pend_slot_cap;
     uint32_t lay_rec_cap, lay_blk_cap;   /* records / blocks allocated   */
     uint32_t lay_rec_used, lay_blk_used; /* ... in use (c.nodes, c.blocks) */
     uint32_t lay_words;
@@ -91,7 +86,8 @@ typedef struct rt_dyn {
     uint64_t last_refit, last_removed, last_inserted, last_moved_far, updates, repacks;
     /* compactions: full rewrites of the slack layout (the first, a change
      * of height, or free groups / regions past RT_DYN_COMPACT_FREE of it);
-     * last_records / last_blocks: what the last sync wrote */
+     * last_records / last_blocks: what the last sync wrote (blocks: a
+     * leaf's slot's blocks for every leaf whose lanes it wrote) */
     uint64_t compactions, last_records, last_blocks;
     double last_tree_s, last_layout_s;
     int must_repack; /* the layout's boxes predate the tree's (first update) */
@@ -144,6 +140,16 @@ void rt_dyn_write_all_boxes(rt_dyn *d, rtc_tree *t, int threads);
  * touched nodes' records and their leaves' blocks are written, unless a
  * compaction is due (then all of it, fresh, depth first). */
 tt_status rt_dyn_sync(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *scene);
+/* The blocks level-1 node n's leaves need in its region
+ * (rtree_dyn_region.c); with c, the leaves that came from another region
+ * since the last sync lose their slots there (lanes cleared). Then, after
+ * every touched node's need: their lanes and references written there,
+ * only the leaves that changed or have no slot in it yet. A freed leaf's
+ * slot (pend_slot) cleared by rt_dyn_slot_clear. */
+uint32_t rt_dyn_region_need(rt_dyn *d, const tt_rtc *c, uint32_t n);
+tt_status rt_dyn_region_write(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
+                              uint32_t *ref);
+void rt_dyn_slot_clear(const tt_rtc *c, uint32_t packed);
 /* Node n left the pointer tree: its group or region waits for the sync. */
 void rt_dyn_release(rt_dyn *d, uint32_t n);
 /* rt_builder.touch for the pointer tree of d. */

@@ -147,6 +147,7 @@ void rt_dyn_free(tt_context *ctx, rt_dyn *d)
     for (int k = 0; k < RT_DYN_REGION_CLASSES; k++) tt_free(ctx, d->free_reg[k]);
     tt_free(ctx, d->pend_grp);
     tt_free(ctx, d->pend_reg);
+    tt_free(ctx, d->pend_slot);
     tt_free(ctx, d->touched);
     tt_free(ctx, d->touch_list);
     tt_free(ctx, d->ids);
@@ -229,7 +230,7 @@ void rt_dyn_write_lane(rt_dyn *d, rtc_tree *t, const tt_scene *scene, uint32_t i
     tt_tri_block *bk = (tt_tri_block *)t->c.block + g / TT_TRI_BLOCK_W;
     const uint32_t l = g % TT_TRI_BLOCK_W;
     const float *v = scene->tri + 9 * (size_t)id;
-    const int dead = rt_dyn_degenerate(v, v + 3, v + 6); /* as rtc_pack writes it */
+    const int dead = tt_tri_is_degenerate(v, v + 3, v + 6); /* as rtc_pack writes it */
     for (int q = 0; q < 9; q++) bk->v[q][l] = dead ? NAN : v[q];
 }
 
@@ -321,12 +322,18 @@ void rt_dyn_release(rt_dyn *d, uint32_t n)
 {
     if (n >= d->rec_cap) return; /* made in this update: nothing of it is laid out */
     const rt_builder *b = &d->b;
-    if (d->grp_of[n] != TT_INVALID_ID && d->slack) {
+    /* a leaf's slot: its lanes cleared at the next sync */
+    if (d->grp_of[n] != TT_INVALID_ID && d->slack && b->hdr[n].level == 0) {
+        if (push(b->ctx, &d->pend_slot, &d->pend_slot_count, &d->pend_slot_cap,
+                 d->grp_of[n] | (uint32_t)(d->grp_hi[n] - 1) << RT_DYN_SLOT_LANE_BITS) != TT_OK)
+            d->touch_oom = 1; /* lost: the next sync compacts */
+    } else if (d->grp_of[n] != TT_INVALID_ID && d->slack) {
         tt_status st = b->hdr[n].level >= 2
                            ? push(b->ctx, &d->pend_grp, &d->pend_grp_count, &d->pend_grp_cap,
                                   d->grp_of[n])
                            : push(b->ctx, &d->pend_reg, &d->pend_reg_count, &d->pend_reg_cap,
-                                  d->grp_of[n] | (uint32_t)d->grp_hi[n] << REG_CLASS_SHIFT);
+                                  d->grp_of[n] | (uint32_t)(d->grp_hi[n] & ~RT_DYN_REGION_FRESH)
+                                                     << REG_CLASS_SHIFT);
         if (st != TT_OK) d->touch_oom = 1; /* lost: the next sync compacts */
     }
     d->grp_of[n] = d->rec_of[n] = TT_INVALID_ID;
@@ -438,31 +445,6 @@ static tt_status free_region(rt_dyn *d, const tt_rtc *c, uint32_t v)
     return push(d->b.ctx, &d->free_reg[k], &d->free_reg_count[k], &d->free_reg_cap[k], blk);
 }
 
-/* The blocks level-1 node n's leaves fill, packed first fit in entry order
- * (rtc_pack's place_leaf: a leaf of up to 8 triangles takes the lanes left
- * in the last block when they suffice); first[i] gets leaf i's first lane
- * (NULL: not wanted). */
-static uint32_t pack_leaves(const rt_builder *b, uint32_t n, uint32_t *first)
-{
-    const uint32_t *ch = rt_node_child(b, n);
-    uint32_t blocks = 0, used = 0;
-    for (int i = 0; i < b->hdr[n].count; i++) {
-        const uint32_t cnt = b->hdr[ch[i]].count;
-        uint32_t lane;
-        if (cnt <= TT_TRI_BLOCK_W && blocks > 0 && used + cnt <= TT_TRI_BLOCK_W) {
-            lane = (blocks - 1) * TT_TRI_BLOCK_W + used;
-            used += cnt;
-        } else {
-            const uint32_t nb = tt_tri_block_count(cnt);
-            lane = blocks * TT_TRI_BLOCK_W;
-            blocks += nb;
-            used = cnt - (nb - 1) * TT_TRI_BLOCK_W;
-        }
-        if (first) first[i] = lane;
-    }
-    return blocks;
-}
-
 static uint32_t class_of(uint32_t blocks)
 {
     uint32_t k = 0;
@@ -470,20 +452,20 @@ static uint32_t class_of(uint32_t blocks)
     return k;
 }
 
-/* Level-1 node n's region fits its leaves: exchanged for one of the right
- * class when too small or four times too big (the old one freed now: its
- * leaves are all written again from the tree). */
+/* Level-1 node n's region fits its leaves' slots: exchanged for one of
+ * the right class when too small or four times too big (the old one freed
+ * now: its leaves are all placed and written again, RT_DYN_REGION_FRESH). */
 static tt_status fit_region(rt_dyn *d, rtc_tree *t, uint32_t n)
 {
-    const uint32_t need = pack_leaves(&d->b, n, NULL), k = class_of(need ? need : 1);
+    const uint32_t k = class_of(rt_dyn_region_need(d, &t->c, n));
     if (d->grp_of[n] != TT_INVALID_ID) {
-        const uint32_t have = d->grp_hi[n];
+        const uint32_t have = d->grp_hi[n] & ~RT_DYN_REGION_FRESH;
         if (k <= have && (have == 0 || k + 2 > have)) return TT_OK;
         tt_status st = free_region(d, &t->c, d->grp_of[n] | have << REG_CLASS_SHIFT);
         d->grp_of[n] = TT_INVALID_ID;
         if (st != TT_OK) return st;
     }
-    d->grp_hi[n] = (uint8_t)k;
+    d->grp_hi[n] = (uint8_t)(k | RT_DYN_REGION_FRESH);
     return alloc_region(d, t, k, &d->grp_of[n]);
 }
 
@@ -492,73 +474,6 @@ static uint32_t lay_pos(const rt_dyn *d, uint32_t n)
 {
     const rt_builder *b = &d->b;
     return n == b->root ? 0 : d->grp_of[b->hdr[n].parent] + b->hdr[n].slot;
-}
-
-/* Lanes [from, to) of the region at `base` unused: those still holding a
- * triangle cleared (the others already are). */
-static void lanes_vacate(const tt_rtc *c, uint64_t base, uint32_t from, uint32_t to)
-{
-    for (uint32_t i = from; i < to; i++) {
-        const uint64_t g = base + i;
-        const tt_tri_block *bk = (const tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
-        if (bk->prim[g % TT_TRI_BLOCK_W] != TT_INVALID_ID) lanes_clear(c, g, 1);
-    }
-}
-
-/* Level-1 node n's leaves into its region, packed; the rest of the region
- * unused lanes. A leaf not touched since the last sync whose lanes already
- * hold its triangles where the packing puts it is left as it is (its
- * triangles did not move: a moved one marks its leaf): on the bunny's
- * 1%-edits frames most leaves of a touched region are such, and writing
- * them again (with the whole region cleared first) was a third of the
- * sync. The references go into ref. */
-static void write_region(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
-                         uint32_t *ref)
-{
-    const rt_builder *b = &d->b;
-    uint32_t first[TT_RT_CAP];
-    const uint32_t used = pack_leaves(b, n, first), blk = d->grp_of[n];
-    const uint64_t base = (uint64_t)blk * TT_TRI_BLOCK_W;
-    const uint32_t *ch = rt_node_child(b, n);
-    uint32_t cursor = 0; /* lanes before it are placed (first fit ascends) */
-    for (int i = 0; i < b->hdr[n].count; i++) {
-        const uint32_t l = ch[i], cnt = b->hdr[l].count, *id = rt_node_child(b, l);
-        lanes_vacate(c, base, cursor, first[i]);
-        cursor = first[i] + cnt;
-        int keep = l < d->touched_cap && !d->touched[l];
-        for (uint32_t k = 0; k < cnt && keep; k++) {
-            const uint64_t g = base + first[i] + k;
-            keep = ((const tt_tri_block *)c->block)[g / TT_TRI_BLOCK_W].prim[g % TT_TRI_BLOCK_W] ==
-                   id[k];
-        }
-        for (uint32_t k = 0; k < cnt && !keep; k++) {
-            const uint64_t g = base + first[i] + k;
-            tt_tri_block *bk = (tt_tri_block *)c->block + g / TT_TRI_BLOCK_W;
-            const uint32_t lane = (uint32_t)(g % TT_TRI_BLOCK_W);
-            const float *v = scene->tri + 9 * (size_t)id[k];
-            const int dead = rt_dyn_degenerate(v, v + 3, v + 6); /* as rtc_pack writes */
-            for (int q = 0; q < 9; q++) bk->v[q][lane] = dead ? NAN : v[q];
-            bk->prim[lane] = id[k];
-            d->lane_of[id[k]] = (uint32_t)g;
-        }
-        const uint64_t g0 = base + first[i];
-        ref[i] = tt_rtc_leaf_ref((uint32_t)(g0 / TT_TRI_BLOCK_W), (uint32_t)(g0 % TT_TRI_BLOCK_W),
-                                 cnt);
-        d->rec_of[l] = TT_INVALID_ID;
-    }
-    /* the tail: the rest of the cursor's block lane by lane, then whole
-     * blocks while they still hold a leaf's start (every packing fills the
-     * region's blocks from the first, each starting at lane 0, so the first
-     * block without one ends what the previous packing used) */
-    const uint32_t end = (1u << d->grp_hi[n]) * TT_TRI_BLOCK_W;
-    uint32_t next = (cursor + TT_TRI_BLOCK_W - 1) / TT_TRI_BLOCK_W * TT_TRI_BLOCK_W;
-    lanes_vacate(c, base, cursor, next < end ? next : end);
-    for (; next < end; next += TT_TRI_BLOCK_W) {
-        const uint64_t g = base + next;
-        if (((const tt_tri_block *)c->block)[g / TT_TRI_BLOCK_W].prim[0] == TT_INVALID_ID) break;
-        lanes_vacate(c, base, next, next + TT_TRI_BLOCK_W);
-    }
-    d->last_blocks += used;
 }
 
 /* rtc_set_boxes's result (the entries' rows, the free mark past cnt) in
@@ -580,7 +495,7 @@ static void set_boxes(const tt_rtc *c, float *rec, const float *box, uint32_t st
 /* Interior node n's record at its place: header, boxes, references; a
  * level-1 node's region written whole; children records elsewhere than
  * their slot in n's group are touched (written later in the same sync). */
-static void write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n)
+static tt_status write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n)
 {
     const rt_builder *b = &d->b;
     const uint32_t r = lay_pos(d, n), cnt = b->hdr[n].count, level = b->hdr[n].level;
@@ -605,9 +520,11 @@ static void write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32
         for (uint32_t i = cnt; i < d->grp_hi[n]; i++) record_clear(c, g + i);
         d->grp_hi[n] = (uint8_t)cnt;
     } else {
-        write_region(d, c, scene, n, ref);
+        tt_status st = rt_dyn_region_write(d, c, scene, n, ref);
+        if (st != TT_OK) return st;
     }
     for (uint32_t i = cnt; i < old; i++) ref[i] = TT_INVALID_ID;
+    return TT_OK;
 }
 
 /* A compaction: fresh arrays sized to the tree (with a quarter to grow
@@ -629,8 +546,7 @@ static tt_status lay_start_full(rt_dyn *d, rtc_tree *t)
         rt_dyn_touch(d, n);
         groups += b->hdr[n].level >= 2;
         if (b->hdr[n].level == 1) {
-            const uint32_t need = pack_leaves(b, n, NULL);
-            blocks += 1u << class_of(need ? need : 1);
+            blocks += 1u << class_of(rt_dyn_region_need(d, NULL, n));
             continue;
         }
         const uint32_t *ch = rt_node_child(b, n);
@@ -641,7 +557,7 @@ static tt_status lay_start_full(rt_dyn *d, rtc_tree *t)
         d->rec_of[n] = d->grp_of[n] = TT_INVALID_ID;
         d->grp_hi[n] = 0;
     }
-    d->free_grp_count = d->pend_grp_count = d->pend_reg_count = 0;
+    d->free_grp_count = d->pend_grp_count = d->pend_reg_count = d->pend_slot_count = 0;
     for (int k = 0; k < RT_DYN_REGION_CLASSES; k++) d->free_reg_count[k] = 0;
     d->free_reg_blocks = 0;
     rtc_tree fresh;
@@ -695,7 +611,9 @@ tt_status rt_dyn_sync(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *s
         d->touch_oom = 0;
         st = lay_start_full(d, t);
         if (st != TT_OK) return st;
-    } else { /* freed groups and regions cleared, then free */
+    } else { /* freed leaves' slots, groups and regions cleared, then free */
+        for (uint32_t k = 0; k < d->pend_slot_count; k++) rt_dyn_slot_clear(c, d->pend_slot[k]);
+        d->pend_slot_count = 0;
         for (uint32_t k = 0; k < d->pend_grp_count && st == TT_OK; k++) {
             for (uint32_t i = 0; i < c->M; i++) record_clear(c, d->pend_grp[k] + i);
             st = push(ctx, &d->free_grp, &d->free_grp_count, &d->free_grp_cap, d->pend_grp[k]);
@@ -721,7 +639,7 @@ tt_status rt_dyn_sync(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *s
     for (uint32_t k = 0; k < d->touch_count && st == TT_OK; k++) {
         const uint32_t n = d->touch_list[k];
         if (n >= d->rec_cap || b->hdr[n].pad || b->hdr[n].level == 0) continue;
-        write_node(d, &t->c, scene, n);
+        st = write_node(d, &t->c, scene, n);
     }
     for (uint32_t k = 0; k < d->touch_count; k++) d->touched[d->touch_list[k]] = 0;
     d->touch_count = 0;

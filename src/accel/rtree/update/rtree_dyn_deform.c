@@ -37,23 +37,39 @@ static inline void deform_leaf(rt_dyn *d, tt_tri_block *blk, const float *tri, u
     for (uint64_t g = g0; g < g0 + cnt; g++) {
         tt_tri_block *bk = blk + g / TT_TRI_BLOCK_W;
         const uint32_t l = (uint32_t)(g % TT_TRI_BLOCK_W), id = bk->prim[l];
-        float v[12];
-        memcpy(v, tri + 9 * (size_t)id, 9 * sizeof(float));
-        v[9] = v[10] = v[11] = 0.0f;
+        const float *v = tri + 9 * (size_t)id;
 #if defined(__SSE2__)
-        /* a corner a vector load: the same min / max per coordinate */
-        const __m128 p0 = _mm_loadu_ps(v), p1 = _mm_loadu_ps(v + 3), p2 = _mm_loadu_ps(v + 6);
+        /* a corner a vector load (the third one ending at the triangle's
+         * last float, shifted down): the same min / max per coordinate;
+         * lane 3 is unused. Loaded straight from the scene: a copy into a
+         * padded buffer first cost a store-to-load forwarding stall a
+         * triangle */
+        const __m128 p0 = _mm_loadu_ps(v), p1 = _mm_loadu_ps(v + 3), p2r = _mm_loadu_ps(v + 5);
+        const __m128 p2 = _mm_shuffle_ps(p2r, p2r, _MM_SHUFFLE(3, 3, 2, 1));
         const __m128 mn = _mm_min_ps(_mm_min_ps(p0, p1), p2);
         const __m128 mx = _mm_max_ps(_mm_max_ps(p0, p1), p2);
         lo = _mm_min_ps(lo, mn);
         hi = _mm_max_ps(hi, mx);
+        /* tt_tri_is_degenerate's three products, a lane each (the same
+         * float operations in the same order, so the same answer): the
+         * scalar test was a third of the walk's instructions */
+        const __m128 e1 = _mm_sub_ps(p1, p0), e2 = _mm_sub_ps(p2, p0);
+        const __m128 e1a = _mm_shuffle_ps(e1, e1, _MM_SHUFFLE(3, 0, 2, 1)); /* y z x */
+        const __m128 e2b = _mm_shuffle_ps(e2, e2, _MM_SHUFFLE(3, 1, 0, 2)); /* z x y */
+        const __m128 e1c = _mm_shuffle_ps(e1, e1, _MM_SHUFFLE(3, 1, 0, 2)); /* z x y */
+        const __m128 e2d = _mm_shuffle_ps(e2, e2, _MM_SHUFFLE(3, 0, 2, 1)); /* y z x */
+        const __m128 n = _mm_sub_ps(_mm_mul_ps(e1a, e2b), _mm_mul_ps(e1c, e2d));
+        const int dead = (_mm_movemask_ps(_mm_cmpeq_ps(n, _mm_setzero_ps())) & 7) == 7;
 #else
         for (int k = 0; k < 3; k++) {
             lo[k] = rt_min(lo[k], rt_min(rt_min(v[k], v[3 + k]), v[6 + k]));
             hi[k] = rt_max(hi[k], rt_max(rt_max(v[k], v[3 + k]), v[6 + k]));
         }
 #endif
-        if (rt_dyn_degenerate(v, v + 3, v + 6)) { /* rare: its box again, scalar */
+#if !defined(__SSE2__)
+        const int dead = tt_tri_is_degenerate(v, v + 3, v + 6);
+#endif
+        if (dead) { /* rare: its box again, scalar */
             float *bx = d->tri_box + 6 * (size_t)id;
             for (int k = 0; k < 3; k++) {
                 bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);

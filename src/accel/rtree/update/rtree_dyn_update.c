@@ -50,6 +50,15 @@ static int jumped(const float old[6], const float now[6])
     return 0.25f * m > reach * reach;
 }
 
+/* Threads only for big frames: on the shared 2-core box a 69k-triangle
+ * refit ran 2-3x slower in wall time on 2 threads than on 1 (fork/join
+ * under load); 2^17 changed triangles keep the threads busy enough. */
+static int threads_for(tt_context *ctx, size_t changed)
+{
+    if (changed < ((size_t)1 << 17)) return 1;
+    return tt_context_threads(ctx) > 0 ? tt_context_threads(ctx) : omp_get_max_threads();
+}
+
 tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *scene,
                         uint64_t since)
 {
@@ -73,21 +82,45 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
         d->ids_cap = T;
     }
     uint32_t *ids = d->ids;
-    for (size_t id = 0; id < T; id++) {
+    const uint64_t *stamp = scene->stamp;
+    const uint8_t *flags = scene->flags;
+    const uint32_t *leaf_of = d->leaf_of;
+    /* no triangle added or removed since the last update: every changed id
+     * is live and in the tree, and a deformation (a quarter or more of
+     * them moved) needs only their count, not the list (the list was a
+     * sixth of a conference deformation's instructions) */
+    const size_t live = tt_scene_live_triangle_count(scene);
+    if (!sweep && flags && scene->structural <= since && d->b.triangles == live) {
+        for (size_t id = 0; id < T; id++) changed += stamp[id] > since;
+        moved = changed;
+        if (moved * 4 >= live && moved > 0 && rt_dyn_deform(d, t, scene, threads_for(ctx, changed))) {
+            d->last_refit = moved;
+            d->last_removed = d->last_inserted = d->last_moved_far = 0;
+            d->last_tree_s = tt_now() - t0;
+            d->last_layout_s = 0.0;
+            d->updates++;
+            return TT_OK;
+        }
+        changed = moved = 0; /* the general path: the list */
+    }
+    if (!sweep && flags) { /* every frame after the first: the tight loop */
+        for (size_t id = 0; id < T; id++) {
+            if (stamp[id] <= since) continue;
+            ids[changed++] = (uint32_t)id;
+            moved += ((flags[id] & TT_TRI_DEAD) == 0) & (leaf_of[id] != TT_INVALID_ID);
+        }
+    }
+    for (size_t id = 0; id < T && (sweep || !flags); id++) {
         if (scene->stamp[id] <= since &&
             !(sweep && d->leaf_of[id] != TT_INVALID_ID && tt_scene_is_dead(scene, id)))
             continue;
         ids[changed++] = (uint32_t)id;
         moved += !tt_scene_is_dead(scene, id) && d->leaf_of[id] != TT_INVALID_ID;
     }
-    const size_t live = tt_scene_live_triangle_count(scene);
     const int deform = moved * 4 >= live && moved > 0;
     size_t removed = 0, inserted = 0, far = 0, refit = 0;
     /* a pure deformation (only moves): one walk refits and writes it all */
-    const int threads0 = changed < ((size_t)1 << 17) ? 1
-                         : tt_context_threads(ctx) > 0 ? tt_context_threads(ctx)
-                                                       : omp_get_max_threads();
-    if (deform && moved == changed && rt_dyn_deform(d, t, scene, threads0)) {
+    if (deform && moved == changed && rt_dyn_deform(d, t, scene, threads_for(ctx, changed))) {
         d->last_refit = moved;
         d->last_removed = d->last_inserted = d->last_moved_far = 0;
         d->last_tree_s = tt_now() - t0;
@@ -107,12 +140,7 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
     /* 1. refits: new boxes into the leaves, marked for the climb */
     uint8_t *again = tt_calloc(ctx, changed ? changed : 1, 1); /* delete + insert */
     if (!again) st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
-    /* threads only for big frames: on the shared 2-core box a 69k-triangle
-     * refit ran 2-3x slower in wall time on 2 threads than on 1 (fork/join
-     * under load); 2^17 moved triangles keep the threads busy enough */
-    const int threads = changed < ((size_t)1 << 17) ? 1
-                        : tt_context_threads(ctx) > 0 ? tt_context_threads(ctx)
-                                                      : omp_get_max_threads();
+    const int threads = threads_for(ctx, changed);
     if (deform) { /* every moved id refits: its new box, on the threads */
 #pragma omp parallel for schedule(static) num_threads(threads) reduction(+ : refit)
         for (size_t i = 0; i < changed; i++) {
@@ -125,16 +153,19 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
     for (size_t i = 0; i < changed && st == TT_OK && !deform; i++) {
         const uint32_t id = ids[i];
         if (tt_scene_is_dead(scene, id) || d->leaf_of[id] == TT_INVALID_ID) continue;
-        float nb[6];
-        tri_bounds(scene->tri + 9 * (size_t)id, nb);
-        /* an id reused by an addition is a new triangle; a moved one that
-         * would grow its leaf's surface by more than a quarter (or jumped
-         * away) is better placed again than refit where it was */
-        float lb[6], grown[6];
-        rt_node_bounds(&d->b, d->leaf_of[id], lb);
-        memcpy(grown, lb, sizeof grown);
-        rt_box_grow(grown, nb);
+        /* an id reused by an addition is a new triangle (an edits frame's
+         * additions reuse its removals' ids: decided before any box is
+         * computed); a moved one that would grow its leaf's surface by
+         * more than a quarter (or jumped away) is better placed again than
+         * refit where it was */
         const int reborn = scene->born[id] > since;
+        float nb[6], lb[6], grown[6];
+        if (!reborn) {
+            tri_bounds(scene->tri + 9 * (size_t)id, nb);
+            rt_node_bounds(&d->b, d->leaf_of[id], lb);
+            memcpy(grown, lb, sizeof grown);
+            rt_box_grow(grown, nb);
+        }
         if (reborn || rt_box_area(grown) > 1.25f * rt_box_area(lb) ||
             jumped(d->tri_box + 6 * (size_t)id, nb)) {
             again[i] = 1;
