@@ -113,14 +113,40 @@ typedef struct pk_rays {
     tt_wray w[PK_N];
 } pk_rays;
 
+/* tt_wray_init's fields from the lane's rows, without its divisions (rcp,
+ * sx, sy, sz are the rows' own; tt_safe_inv's 1 / d is rcp): a shadow
+ * packet's few-lane groups take this path at many leaves */
 static inline const tt_wray *pk_wray(pk_rays *P, uint32_t l)
 {
     const uint32_t g = l / PK_L, bit = 1u << (l % PK_L);
-    if (!(P->made[g] & bit)) {
-        P->made[g] |= bit;
-        tt_packet_ray_wray(P->R, P->src[l], &P->w[l]);
+    tt_wray *w = &P->w[l];
+    if (P->made[g] & bit) return w;
+    P->made[g] |= bit;
+    const tt_packet_rays *R = P->R;
+    const uint32_t j = P->src[l];
+    const float rcp[3] = {P->rx[l], P->ry[l], P->rz[l]};
+    const float dir[3] = {R->dir[0][j], R->dir[1][j], R->dir[2][j]};
+    for (int k = 0; k < 3; k++) {
+        w->dir[k] = dir[k];
+        w->rcp[k] = rcp[k];
+        w->inv[k] = fabsf(dir[k]) < 1e-30f ? copysignf(1e30f, dir[k]) : rcp[k];
     }
-    return &P->w[l];
+    w->org[0] = P->ox[l];
+    w->org[1] = P->oy[l];
+    w->org[2] = P->oz[l];
+    w->tmin = P->tmin[l];
+    w->tmax = R->tmax[j];
+    const float ax = fabsf(dir[0]), ay = fabsf(dir[1]), az = fabsf(dir[2]);
+    const int kz = (ax >= ay && ax >= az) ? 0 : (ay >= az ? 1 : 2);
+    const int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
+    const int neg = dir[kz] < 0.0f;
+    w->kx = neg ? ky : kx;
+    w->ky = neg ? kx : ky;
+    w->kz = kz;
+    w->sx = P->sx[l];
+    w->sy = P->sy[l];
+    w->sz = P->sz[l];
+    return w;
 }
 
 /* 1 for a negative float, -0 included (the octant of a direction: its
