@@ -280,24 +280,46 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_block))(pk_rays *P, const int any, ui
     }
 }
 
+/* The packet's constants of a walk, in locals: the rows' offsets of each
+ * axis's near and far planes, and the interval test's broadcast bounds
+ * (read through P at every node they were reloaded and re-selected: P's
+ * uint32_t fields may alias the walk's masks, 174 instructions a node). */
+typedef struct TT_VARIANT(RTC_FN(pk_consts)) {
+    uint32_t nr[3], fr[3];
+    pk_v on[3], of[3], rlo[3], rhi[3], tn, tf;
+} TT_VARIANT(RTC_FN(pk_consts));
+
+TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_consts))(const pk_rays *P, uint32_t S,
+                                                    TT_VARIANT(RTC_FN(pk_consts)) *A)
+{
+    for (int k = 0; k < 3; k++) {
+        const int neg = P->nrow[k] != (uint32_t)k;
+        A->nr[k] = P->nrow[k] * S;
+        A->fr[k] = P->frow[k] * S;
+        A->on[k] = PK_SET1(neg ? P->omin[k] : P->omax[k]);
+        A->of[k] = PK_SET1(neg ? P->omax[k] : P->omin[k]);
+        A->rlo[k] = PK_SET1(P->rmin[k]);
+        A->rhi[k] = PK_SET1(P->rmax[k]);
+    }
+    A->tn = PK_SET1(P->tmin_min);
+    A->tf = PK_SET1(P->tcut_max);
+}
+
 /* The interval test of all S children of node record rec against the
  * packet's bounds: bit i clear where no ray of the packet can hit child i. */
-TT_RT_INLINE uint32_t TT_VARIANT(RTC_FN(rtc_pk_interval))(const pk_rays *P, const float *rec, uint32_t S,
+TT_RT_INLINE uint32_t TT_VARIANT(RTC_FN(rtc_pk_interval))(const TT_VARIANT(RTC_FN(pk_consts)) *A,
+                                                         const float *rec, uint32_t S,
                                                          float *tn_out)
 {
     uint32_t keep = 0;
     const float c1 = 1.0f / 4194304.0f;
     for (uint32_t i = 0; i < S; i += PK_L) {
-        pk_v tn = PK_SET1(P->tmin_min), tf = PK_SET1(P->tcut_max);
+        pk_v tn = A->tn, tf = A->tf;
         for (int k = 0; k < 3; k++) {
-            const int neg = P->nrow[k] != (uint32_t)k;
-            const pk_v rlo = PK_SET1(P->rmin[k]), rhi = PK_SET1(P->rmax[k]);
-            const pk_v dn = PK_SUB(PK_LOADU(tt_rtc_boxes(rec) + P->nrow[k] * S + i),
-                                   PK_SET1(neg ? P->omin[k] : P->omax[k]));
-            const pk_v df = PK_SUB(PK_LOADU(tt_rtc_boxes(rec) + P->frow[k] * S + i),
-                                   PK_SET1(neg ? P->omax[k] : P->omin[k]));
-            tn = PK_MAX(PK_MIN(PK_MUL(dn, rlo), PK_MUL(dn, rhi)), tn);
-            tf = PK_MIN(PK_MAX(PK_MUL(df, rlo), PK_MUL(df, rhi)), tf);
+            const pk_v dn = PK_SUB(PK_LOADU(tt_rtc_boxes(rec) + A->nr[k] + i), A->on[k]);
+            const pk_v df = PK_SUB(PK_LOADU(tt_rtc_boxes(rec) + A->fr[k] + i), A->of[k]);
+            tn = PK_MAX(PK_MIN(PK_MUL(dn, A->rlo[k]), PK_MUL(dn, A->rhi[k])), tn);
+            tf = PK_MIN(PK_MAX(PK_MUL(df, A->rlo[k]), PK_MUL(df, A->rhi[k])), tf);
         }
         tf = PK_ADD(tf, PK_MUL(PK_ABS(tf), PK_SET1(c1)));
         PK_STOREU(tn_out + i, tn);
@@ -322,6 +344,8 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
     for (uint32_t g = P->groups; g < PK_G; g++) cur.m[g] = 0;
     const float c1 = 1.0f / 4194304.0f, c2 = 1.0f / 65536.0f;
     const pk_v inf = PK_SET1(TT_INF);
+    TT_VARIANT(RTC_FN(pk_consts)) A;
+    TT_VARIANT(RTC_FN(rtc_pk_consts))(P, S, &A);
     (void)stats;
     for (;;) {
         const float *rec = tt_rtc_node(t, cur.node);
@@ -351,7 +375,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
         /* the interval test's entry distance of each child, for the packet */
         float tpk[TT_RT_MAX_M];
         const int itest = P->ia && S % PK_L == 0;
-        if (itest) cand &= TT_VARIANT(RTC_FN(rtc_pk_interval))(P, rec, S, tpk);
+        if (itest) cand &= TT_VARIANT(RTC_FN(rtc_pk_interval))(&A, rec, S, tpk);
         /* Occlusion asks any hit, not the nearest: a child's rays need only
          * the overlap test, and the children go near to far by the
          * packet's interval entry (as good an order, and free), not by a
@@ -367,10 +391,10 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
         while (cand) {
             const uint32_t c = (uint32_t)__builtin_ctz(cand);
             cand &= cand - 1;
-            const pk_v bnx = PK_SET1(box[P->nrow[0] * S + c]), bny = PK_SET1(box[P->nrow[1] * S + c]),
-                       bnz = PK_SET1(box[P->nrow[2] * S + c]);
-            const pk_v bfx = PK_SET1(box[P->frow[0] * S + c]), bfy = PK_SET1(box[P->frow[1] * S + c]),
-                       bfz = PK_SET1(box[P->frow[2] * S + c]);
+            const pk_v bnx = PK_SET1(box[A.nr[0] + c]), bny = PK_SET1(box[A.nr[1] + c]),
+                       bnz = PK_SET1(box[A.nr[2] + c]);
+            const pk_v bfx = PK_SET1(box[A.fr[0] + c]), bfy = PK_SET1(box[A.fr[1] + c]),
+                       bfz = PK_SET1(box[A.fr[2] + c]);
             pk_v vmin = inf;
             uint32_t g0 = PK_G, g1 = 0;
             uint32_t *mk = cm[nh];
@@ -506,7 +530,16 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
         }
     pop:
         if (!sp) return;
-        cur = stack[--sp];
+        /* the entry's mask words in use only (a whole pk_entry is 144
+         * bytes: a memcpy a pop) */
+        {
+            const pk_entry *e = &stack[--sp];
+            cur.node = e->node;
+            cur.level = e->level;
+            cur.g0 = e->g0;
+            cur.g1 = e->g1;
+            for (uint32_t g = e->g0; g <= e->g1; g++) cur.m[g] = e->m[g];
+        }
     }
 }
 
@@ -533,15 +566,18 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_packet_ra
     if (idx[n - 1] - i0 == n - 1) {
         /* consecutive rows (a tile of one octant, a run of shadow rays):
          * straight copies */
-        memcpy(P->ox, R->org[0] + i0, n * sizeof(float));
-        memcpy(P->oy, R->org[1] + i0, n * sizeof(float));
-        memcpy(P->oz, R->org[2] + i0, n * sizeof(float));
-        memcpy(d[0], R->dir[0] + i0, n * sizeof(float));
-        memcpy(d[1], R->dir[1] + i0, n * sizeof(float));
-        memcpy(d[2], R->dir[2] + i0, n * sizeof(float));
-        memcpy(P->tmin, R->tmin + i0, n * sizeof(float));
-        memcpy(P->t, R->tmax + i0, n * sizeof(float));
-        for (uint32_t i = 0; i < n; i++) P->src[i] = (uint16_t)(i0 + i);
+        const float *const from[8] = {R->org[0] + i0, R->org[1] + i0, R->org[2] + i0,
+                                      R->dir[0] + i0, R->dir[1] + i0, R->dir[2] + i0,
+                                      R->tmin + i0,   R->tmax + i0};
+        float *const to[8] = {P->ox, P->oy, P->oz, d[0], d[1], d[2], P->tmin, P->t};
+        /* whole vectors while they stay inside R's rows (lanes past n are
+         * overwritten below); memcpy was a libc call a row */
+        uint32_t i = 0;
+        for (; i < n && i0 + i + PK_L <= PK_N; i += PK_L)
+            for (int r = 0; r < 8; r++) PK_STORE(to[r] + i, PK_LOADU(from[r] + i));
+        for (; i < n; i++)
+            for (int r = 0; r < 8; r++) to[r][i] = from[r][i];
+        for (i = 0; i < n; i++) P->src[i] = (uint16_t)(i0 + i);
     } else {
         for (uint32_t i = 0; i < n; i++) {
             const uint32_t j = idx[i];
