@@ -45,7 +45,8 @@ typedef struct tt_packet_stats {
  * of tt_wray's, which the kernels copied again into rows: building them
  * (the nine divisions, the shear's selects, the AoS stores) and reading
  * them back was about 40% of a shadow ray's instructions (callgrind,
- * sibenik, 2026-12-02). Rows past n are never read. */
+ * sibenik, 2026-12-02). A kernel may load whole vectors of a row past n
+ * (never past TT_PACKET_MAX) and drops those lanes. */
 typedef struct tt_packet_rays {
     _Alignas(64) float org[3][TT_PACKET_MAX];
     _Alignas(64) float dir[3][TT_PACKET_MAX];

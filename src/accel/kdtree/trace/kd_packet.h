@@ -731,22 +731,37 @@ void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_packet_rays *
     uint16_t idx[KP_GROUPS][KP_N];
     uint32_t cnt[KP_GROUPS] = {0};
     TT_COUNT(stats, rays.rays, n);
-    for (uint32_t i = 0; i < n; i++) {
-        const float x = R->dir[0][i], y = R->dir[1][i], z = R->dir[2][i];
-        if (x == 0.0f || y == 0.0f || z == 0.0f) {
-            tt_wray w;
-            tt_packet_ray_wray(R, i, &w);
-            TT_VARIANT(KD_FN(kp_single))(T, &w, any, any ? NULL : hits + i, any ? occ + i : NULL,
-                                         stats);
-            continue;
+    /* each ray's group, its compares a vector at a time (a scalar compare
+     * and branch per component was about 30 instructions a ray): the
+     * octant, and tt_wray_init's dominant axis (x wins ties, then y) */
+    const pk_v zero = PK_SET1(0.0f);
+    for (uint32_t o = 0; o < n; o += PK_L) {
+        /* (lanes past n read rows the packet does not use: their bits are
+         * dropped) */
+        const pk_v x = PK_LOAD(R->dir[0] + o), y = PK_LOAD(R->dir[1] + o),
+                   z = PK_LOAD(R->dir[2] + o);
+        const pk_v ax = PK_ANDNOT(PK_SET1(-0.0f), x), ay = PK_ANDNOT(PK_SET1(-0.0f), y),
+                   az = PK_ANDNOT(PK_SET1(-0.0f), z);
+        const pk_m m0 = PK_MAND(PK_CMP_GE(ax, ay), PK_CMP_GE(ax, az));
+        const uint32_t lanes = n - o < PK_L ? n - o : PK_L;
+        const uint32_t zb =
+            PK_BITS(PK_MOR(PK_MOR(PK_CMP_EQ(x, zero), PK_CMP_EQ(y, zero)), PK_CMP_EQ(z, zero)));
+        const uint32_t nx = PK_BITS(PK_CMP_LT(x, zero)), ny = PK_BITS(PK_CMP_LT(y, zero)),
+                       nz = PK_BITS(PK_CMP_LT(z, zero));
+        const uint32_t b0 = PK_BITS(m0), b1 = PK_BITS(PK_MANDNOT(m0, PK_CMP_GE(ay, az)));
+        for (uint32_t l = 0; l < lanes; l++) {
+            const uint32_t i = o + l;
+            if (zb >> l & 1u) {
+                tt_wray w;
+                tt_packet_ray_wray(R, i, &w);
+                TT_VARIANT(KD_FN(kp_single))(T, &w, any, any ? NULL : hits + i,
+                                             any ? occ + i : NULL, stats);
+                continue;
+            }
+            const uint32_t g = ((nx >> l & 1u) | (ny >> l & 1u) << 1 | (nz >> l & 1u) << 2) * 3u +
+                               2u - 2u * (b0 >> l & 1u) - (b1 >> l & 1u);
+            idx[g][cnt[g]++] = (uint16_t)i;
         }
-        /* tt_wray_init's dominant axis */
-        const float ax = fabsf(x), ay = fabsf(y), az = fabsf(z);
-        const uint32_t kz = (ax >= ay && ax >= az) ? 0u : (ay >= az ? 1u : 2u);
-        const uint32_t g =
-            ((uint32_t)(x < 0.0f) | (uint32_t)(y < 0.0f) << 1 | (uint32_t)(z < 0.0f) << 2) * 3u +
-            kz;
-        idx[g][cnt[g]++] = (uint16_t)i;
     }
     _Alignas(64) kp_rays P;
     for (uint32_t g = 0; g < KP_GROUPS; g++) {
