@@ -107,15 +107,18 @@ typedef struct pk_rays {
     int ia;                    /* interval test usable (finite reciprocals) */
     float omin[3], omax[3], rmin[3], rmax[3], tmin_min;
     float tcut_max; /* no ray's test keeps a box entered beyond it */
-    /* lane l's ray as the single-ray kernels take it, built on first use
+    /* lane l's ray for the single-ray triangle tests, built on first use
      * (pk_wray): only the fallbacks want it (a group's few lanes or mixed
      * shears at a leaf, zero edge functions) */
     tt_wray w[PK_N];
 } pk_rays;
 
-/* tt_wray_init's fields from the lane's rows, without its divisions (rcp,
- * sx, sy, sz are the rows' own; tt_safe_inv's 1 / d is rcp): a shadow
- * packet's few-lane groups take this path at many leaves */
+/* Lane l's ray for the single-ray triangle tests (the block kernels of
+ * geometry/tri_block_*.h, tt_intersect_triangle): the fields they read,
+ * org, tmin, kx, ky, kz, sx, sy, sz, as tt_wray_init sets them, from the
+ * packet's rows (no division); dir, inv, rcp and tmax are left unset, and
+ * nothing else may take this ray. A shadow packet's few-lane groups take
+ * this path at many leaves (a whole tt_wray was 92 instructions a lane). */
 static inline const tt_wray *pk_wray(pk_rays *P, uint32_t l)
 {
     const uint32_t g = l / PK_L, bit = 1u << (l % PK_L);
@@ -124,18 +127,11 @@ static inline const tt_wray *pk_wray(pk_rays *P, uint32_t l)
     P->made[g] |= bit;
     const tt_packet_rays *R = P->R;
     const uint32_t j = P->src[l];
-    const float rcp[3] = {P->rx[l], P->ry[l], P->rz[l]};
     const float dir[3] = {R->dir[0][j], R->dir[1][j], R->dir[2][j]};
-    for (int k = 0; k < 3; k++) {
-        w->dir[k] = dir[k];
-        w->rcp[k] = rcp[k];
-        w->inv[k] = fabsf(dir[k]) < 1e-30f ? copysignf(1e30f, dir[k]) : rcp[k];
-    }
     w->org[0] = P->ox[l];
     w->org[1] = P->oy[l];
     w->org[2] = P->oz[l];
     w->tmin = P->tmin[l];
-    w->tmax = R->tmax[j];
     const float ax = fabsf(dir[0]), ay = fabsf(dir[1]), az = fabsf(dir[2]);
     const int kz = (ax >= ay && ax >= az) ? 0 : (ay >= az ? 1 : 2);
     const int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
