@@ -39,6 +39,42 @@ typedef struct tt_packet_stats {
     uint64_t fallback_rays; /* rays finished as single rays (divergence)    */
 } tt_packet_stats;
 
+/* A packet's rays as rows (structure of arrays), the way the batch calls
+ * and the renderer gather them: org, dir, tmin and tmax of ray i at [i],
+ * i < n <= TT_PACKET_MAX, every ray one the contract admits. Was an array
+ * of tt_wray's, which the kernels copied again into rows: building them
+ * (the nine divisions, the shear's selects, the AoS stores) and reading
+ * them back was about 40% of a shadow ray's instructions (callgrind,
+ * sibenik, 2026-12-02). A kernel may load whole vectors of a row past n
+ * (never past TT_PACKET_MAX) and drops those lanes. */
+typedef struct tt_packet_rays {
+    _Alignas(64) float org[3][TT_PACKET_MAX];
+    _Alignas(64) float dir[3][TT_PACKET_MAX];
+    _Alignas(64) float tmin[TT_PACKET_MAX];
+    _Alignas(64) float tmax[TT_PACKET_MAX];
+    uint32_t n;
+} tt_packet_rays;
+
+/* Row i as the single-ray entries take it (a packet kernel's fallbacks,
+ * structures without a kernel). */
+static inline void tt_packet_ray_wray(const tt_packet_rays *p, uint32_t i, tt_wray *w)
+{
+    const float org[3] = {p->org[0][i], p->org[1][i], p->org[2][i]};
+    const float dir[3] = {p->dir[0][i], p->dir[1][i], p->dir[2][i]};
+    tt_wray_init(w, org, dir, p->tmin[i], p->tmax[i]);
+}
+/* Sets row i (the callers' gathering loops). */
+static inline void tt_packet_ray_set(tt_packet_rays *p, uint32_t i, const float *org,
+                                     const float *dir, float tmin, float tmax)
+{
+    for (int k = 0; k < 3; k++) {
+        p->org[k][i] = org[k];
+        p->dir[k][i] = dir[k];
+    }
+    p->tmin[i] = tmin;
+    p->tmax[i] = tmax;
+}
+
 struct tt_af_writer;
 struct tt_af_file;
 
@@ -60,18 +96,19 @@ typedef struct tt_accel_vtable {
                             tt_trace_args *args, tt_ray_stats *stats);
     int (*occluded_stats)(const tt_accel *accel, const tt_wray *ray, tt_trace_args *args,
                           tt_ray_stats *stats);
-    /* Optional (NULL: the batch traces ray by ray): n <= TT_PACKET_MAX
-     * checked rays traced together as one coherent packet (a batch's tile).
-     * Every result equals `intersect`'s / `occluded`'s for that ray, bit for
-     * bit (prim, t, u, v). The _stats forms are the counting variants,
-     * compiled separately; they add into *stats. */
-    void (*intersect_packet)(const tt_accel *accel, const tt_wray *rays, uint32_t n,
-                             tt_hit *hits);
-    void (*occluded_packet)(const tt_accel *accel, const tt_wray *rays, uint32_t n,
+    /* Optional (NULL: the batch traces ray by ray): rays->n <= TT_PACKET_MAX
+     * checked rays traced together as one coherent packet (a batch's tile),
+     * handed over as rows (tt_packet_rays): the kernel derives what it needs
+     * (reciprocals, shear, octants) itself, vectorised. Every result equals
+     * `intersect`'s / `occluded`'s for that ray's tt_wray_init, bit for bit
+     * (prim, t, u, v); hits[i] / occluded[i] answer row i. The _stats forms
+     * are the counting variants, compiled separately; they add into *stats. */
+    void (*intersect_packet)(const tt_accel *accel, const tt_packet_rays *rays, tt_hit *hits);
+    void (*occluded_packet)(const tt_accel *accel, const tt_packet_rays *rays,
                             uint8_t *occluded);
-    void (*intersect_packet_stats)(const tt_accel *accel, const tt_wray *rays, uint32_t n,
+    void (*intersect_packet_stats)(const tt_accel *accel, const tt_packet_rays *rays,
                                    tt_hit *hits, tt_packet_stats *stats);
-    void (*occluded_packet_stats)(const tt_accel *accel, const tt_wray *rays, uint32_t n,
+    void (*occluded_packet_stats)(const tt_accel *accel, const tt_packet_rays *rays,
                                   uint8_t *occluded, tt_packet_stats *stats);
     /* Optional (NULL: yes): whether the batch calls and the renderer should
      * use the packet entries for this structure's options; 0 keeps them ray

@@ -125,6 +125,35 @@ static inline tt_status check_ray(const float org[3], const float dir[3], float 
     return ok ? TT_OK : tt_ray_check(org, dir, tmin, tmax, NULL, 0);
 }
 
+/* Ray i of the arrays into row j of a packet. */
+static inline void load_row(const tt_ray_arrays *a, size_t i, tt_packet_rays *p, uint32_t j)
+{
+    for (int k = 0; k < 3; k++) {
+        p->org[k][j] = *at_f(a->org[k], a->org_stride, i);
+        p->dir[k][j] = *at_f(a->dir[k], a->dir_stride, i);
+    }
+    p->tmin[j] = a->tmin ? *at_f(a->tmin, a->tmin_stride, i) : 0.0f;
+    p->tmax[j] = a->tmax ? *at_f(a->tmax, a->tmax_stride, i) : TT_INF;
+}
+
+/* check_ray's quick test over a packet's rows at once, in a loop the
+ * compiler vectorises: 1 when every ray passes it (the common case; a ray
+ * failing it may still be valid, and check_ray decides). */
+static inline int check_rows(const tt_packet_rays *p)
+{
+    uint32_t fail = 0;
+    for (uint32_t j = 0; j < p->n; j++) {
+        const float fin =
+            ((p->org[0][j] - p->org[0][j]) + (p->org[1][j] - p->org[1][j])) +
+            ((p->org[2][j] - p->org[2][j]) + (p->dir[0][j] - p->dir[0][j])) +
+            ((p->dir[1][j] - p->dir[1][j]) + (p->dir[2][j] - p->dir[2][j]));
+        const int ok = (fin == 0.0f) & (p->tmin[j] >= 0.0f) & (p->tmax[j] == p->tmax[j]) &
+                       ((p->dir[0][j] != 0.0f) | (p->dir[1][j] != 0.0f) | (p->dir[2][j] != 0.0f));
+        fail |= (uint32_t)!ok;
+    }
+    return fail == 0;
+}
+
 static int arrays_ok(const tt_ray_arrays *a)
 {
     return a && a->org[0] && a->org[1] && a->org[2] && a->dir[0] && a->dir[1] && a->dir[2];
@@ -183,8 +212,9 @@ static int packets_allowed(const tt_accel *accel, const tt_accel_vtable *vt,
  * costs nothing beside a traversal and keeps one copy of the loop.
  *
  * With packets, an item's valid rays (at most TILE x TILE = MAX_CHUNK =
- * TT_PACKET_MAX) are prepared first and handed to the structure's packet
- * entry in one call (TT_PACKETS_ON), or when coherent (TT_PACKETS_AUTO:
+ * TT_PACKET_MAX) are gathered as rows (tt_packet_rays) and handed to the
+ * structure's packet entry in one call (TT_PACKETS_ON), or when coherent
+ * (TT_PACKETS_AUTO:
  * tt_packet_coherent, per item, so a batch mixing camera rays and
  * ambient-occlusion rays gets each kind its way). */
 static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, size_t n,
@@ -211,19 +241,19 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
         memset(&local, 0, sizeof local);
         tt_packet_stats plocal;
         memset(&plocal, 0, sizeof plocal);
-        tt_wray pw[TT_PACKET_MAX];
+        tt_packet_rays prows;
+        tt_packet_rays *const pr = &prows;
         tt_hit ph[TT_PACKET_MAX];
         uint8_t pocc[TT_PACKET_MAX];
         size_t pidx[TT_PACKET_MAX];
-        float pdir[3][TT_PACKET_MAX];
 #pragma omp for schedule(dynamic)
         for (long c = 0; c < p.items; c++) {
             int packet = use_packets;
             if (packet && o->packets == TT_PACKETS_AUTO) {
                 /* decide from the directions alone, before preparing any
                  * ray: an incoherent item then takes the plain loop below
-                 * with nothing staged (its rays' tt_wray's would take 20
-                 * KB of the cache the traversal wants) */
+                 * with nothing staged (its rows would take 8 KB of the
+                 * cache the traversal wants) */
                 tt_dir_box db;
                 tt_end_box eb;
                 tt_dir_box_init(&db);
@@ -247,50 +277,60 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                 packet = !hopeless && seen >= TT_PACKET_MIN && tt_packet_boxes_coherent(&db, &eb);
             }
             if (packet) {
+                /* the item's rays straight into the packet's rows; the
+                 * kernel derives reciprocals, shear and octants itself */
                 uint32_t np = 0;
                 FOR_EACH_RAY(&p, c, i) {
-                    float org[3], dir[3], tmin, tmax;
-                    load_ray(rays, i, org, dir, &tmin, &tmax);
-                    tt_status rs = check_ray(org, dir, tmin, tmax);
-                    if (ray_status) ray_status[i] = rs;
-                    if (rs == TT_OK) {
-                        /* tt_wray_init, its divisions for the whole
-                         * packet after the loop (tt_wray_finish_rows) */
-                        tt_wray *w = &pw[np];
-                        for (int k = 0; k < 3; k++) w->org[k] = org[k], w->dir[k] = dir[k];
-                        w->tmin = tmin;
-                        w->tmax = tmax;
-                        pdir[0][np] = dir[0];
-                        pdir[1][np] = dir[1];
-                        pdir[2][np] = dir[2];
-                        pidx[np++] = i;
-                        continue;
-                    }
-                    if (i < bad) bad = i;
-                    bad_count++;
-                    if (hits) {
-                        tt_hit h;
-                        tt_hit_clear(&h);
-                        store_hit(hits, i, &h);
-                    } else {
-                        occluded[(ptrdiff_t)i * occluded_stride] = 0;
-                    }
+                    load_row(rays, i, pr, np);
+                    pidx[np++] = i;
                 }
-                tt_wray_finish_rows(pw, pdir[0], pdir[1], pdir[2], np);
+                pr->n = np;
+                if (check_rows(pr)) {
+                    if (ray_status)
+                        for (uint32_t j = 0; j < np; j++) ray_status[pidx[j]] = TT_OK;
+                } else {
+                    /* some ray fails the quick test: each such ray to
+                     * tt_ray_check, the bad ones out of the rows */
+                    uint32_t keep = 0;
+                    for (uint32_t j = 0; j < np; j++) {
+                        const size_t i = pidx[j];
+                        const float org[3] = {pr->org[0][j], pr->org[1][j], pr->org[2][j]};
+                        const float dir[3] = {pr->dir[0][j], pr->dir[1][j], pr->dir[2][j]};
+                        const tt_status rs = check_ray(org, dir, pr->tmin[j], pr->tmax[j]);
+                        if (ray_status) ray_status[i] = rs;
+                        if (rs == TT_OK) {
+                            tt_packet_ray_set(pr, keep, org, dir, pr->tmin[j], pr->tmax[j]);
+                            pidx[keep++] = i;
+                            continue;
+                        }
+                        if (i < bad) bad = i;
+                        bad_count++;
+                        if (hits) {
+                            tt_hit h;
+                            tt_hit_clear(&h);
+                            store_hit(hits, i, &h);
+                        } else {
+                            occluded[(ptrdiff_t)i * occluded_stride] = 0;
+                        }
+                    }
+                    pr->n = np = keep;
+                }
                 if (np >= TT_PACKET_MIN || o->packets == TT_PACKETS_ON) {
-                    if (hits && counting) vt->intersect_packet_stats(accel, pw, np, ph, &plocal);
-                    else if (hits) vt->intersect_packet(accel, pw, np, ph);
-                    else if (counting) vt->occluded_packet_stats(accel, pw, np, pocc, &plocal);
-                    else vt->occluded_packet(accel, pw, np, pocc);
+                    if (hits && counting) vt->intersect_packet_stats(accel, pr, ph, &plocal);
+                    else if (hits) vt->intersect_packet(accel, pr, ph);
+                    else if (counting) vt->occluded_packet_stats(accel, pr, pocc, &plocal);
+                    else vt->occluded_packet(accel, pr, pocc);
                 } else {
                     for (uint32_t j = 0; j < np; j++) {
                         tt_trace_args args = {o->start_hint, TT_INVALID_ID,
                                               counting ? &local : NULL};
-                        if (hits && counting) vt->intersect_stats(accel, &pw[j], &ph[j], &args, &local);
-                        else if (hits) vt->intersect(accel, &pw[j], &ph[j], &args);
+                        tt_wray w;
+                        tt_packet_ray_wray(pr, j, &w);
+                        if (hits && counting) vt->intersect_stats(accel, &w, &ph[j], &args, &local);
+                        else if (hits) vt->intersect(accel, &w, &ph[j], &args);
                         else if (counting)
-                            pocc[j] = (uint8_t)(vt->occluded_stats(accel, &pw[j], &args, &local) != 0);
-                        else pocc[j] = (uint8_t)(vt->occluded(accel, &pw[j], &args) != 0);
+                            pocc[j] = (uint8_t)(vt->occluded_stats(accel, &w, &args, &local) != 0);
+                        else pocc[j] = (uint8_t)(vt->occluded(accel, &w, &args) != 0);
                     }
                 }
                 for (uint32_t j = 0; j < np; j++) {

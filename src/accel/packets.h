@@ -111,68 +111,20 @@ static inline int tt_packet_boxes_hopeless(const tt_dir_box *d, const tt_end_box
     return !dir_ok && !end_ok;
 }
 
-static inline int tt_packet_coherent(const tt_wray *w, uint32_t n)
+static inline int tt_packet_coherent(const tt_packet_rays *p)
 {
-    if (n < TT_PACKET_MIN) return 0;
+    if (p->n < TT_PACKET_MIN) return 0;
     tt_dir_box b;
     tt_end_box e;
     tt_dir_box_init(&b);
     tt_end_box_init(&e);
-    for (uint32_t i = 0; i < n; i++) {
-        tt_dir_box_add(&b, w[i].dir);
-        tt_end_box_add(&e, w[i].org, w[i].dir, w[i].tmax);
+    for (uint32_t i = 0; i < p->n; i++) {
+        const float org[3] = {p->org[0][i], p->org[1][i], p->org[2][i]};
+        const float dir[3] = {p->dir[0][i], p->dir[1][i], p->dir[2][i]};
+        tt_dir_box_add(&b, dir);
+        tt_end_box_add(&e, org, dir, p->tmax[i]);
     }
     return tt_packet_boxes_coherent(&b, &e);
-}
-
-/* tt_wray_init (geometry/ray.h) for the n <= TT_PACKET_MAX rays of a
- * packet whose org, dir, tmin and tmax are in w[0..n) and whose directions
- * are also the rows dx, dy, dz: the same fields from the same IEEE
- * operations (so bit for bit), in loops the compiler turns into vector
- * divisions; ray by ray, tt_wray_init's nine scalar divisions were about a
- * tenth of a packet's cost. tt_safe_inv's 1/d is rcp itself. */
-static inline void tt_wray_finish_rows(tt_wray *w, const float *dx, const float *dy,
-                                       const float *dz, uint32_t n)
-{
-    float r[3][TT_PACKET_MAX], s[3][TT_PACKET_MAX], iv[3][TT_PACKET_MAX];
-    int k3[3][TT_PACKET_MAX];
-    for (uint32_t i = 0; i < n; i++) {
-        const float x = dx[i], y = dy[i], z = dz[i];
-        r[0][i] = 1.0f / x;
-        r[1][i] = 1.0f / y;
-        r[2][i] = 1.0f / z;
-        /* tt_safe_inv here, as vector selects (in the copy loop below it
-         * was a scalar compare and branch per component) */
-        iv[0][i] = fabsf(x) < 1e-30f ? copysignf(1e30f, x) : r[0][i];
-        iv[1][i] = fabsf(y) < 1e-30f ? copysignf(1e30f, y) : r[1][i];
-        iv[2][i] = fabsf(z) < 1e-30f ? copysignf(1e30f, z) : r[2][i];
-        const float ax = fabsf(x), ay = fabsf(y), az = fabsf(z);
-        const int kz = ((ax >= ay) & (ax >= az)) ? 0 : (ay >= az ? 1 : 2);
-        const int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
-        const float dkz = kz == 0 ? x : kz == 1 ? y : z;
-        /* the swap that keeps the winding */
-        const int tx = dkz < 0.0f ? ky : kx, ty = dkz < 0.0f ? kx : ky;
-        const float dkx = tx == 0 ? x : tx == 1 ? y : z;
-        const float dky = ty == 0 ? x : ty == 1 ? y : z;
-        k3[0][i] = tx;
-        k3[1][i] = ty;
-        k3[2][i] = kz;
-        s[0][i] = dkx / dkz;
-        s[1][i] = dky / dkz;
-        s[2][i] = 1.0f / dkz;
-    }
-    for (uint32_t i = 0; i < n; i++) {
-        for (int k = 0; k < 3; k++) {
-            w[i].rcp[k] = r[k][i];
-            w[i].inv[k] = iv[k][i];
-        }
-        w[i].kx = k3[0][i];
-        w[i].ky = k3[1][i];
-        w[i].kz = k3[2][i];
-        w[i].sx = s[0][i];
-        w[i].sy = s[1][i];
-        w[i].sz = s[2][i];
-    }
 }
 
 #endif

@@ -12,25 +12,26 @@ static void TT_VARIANT(primary_packet)(tt_frame *f, uint32_t x0, uint32_t y0, ui
                                        uint32_t y1, tt_ray_stats *sum)
 {
     const tt_accel *accel = f->accel;
-    tt_wray w[TT_TILE * TT_TILE];
+    tt_packet_rays w;
     tt_hit h[TT_TILE * TT_TILE];
     uint32_t n = 0;
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = x0; x < x1; x++) {
             tt_ray r;
             tt_camera_basis_ray(&f->basis, x, y, &r);
-            tt_wray_init(&w[n++], r.org, r.dir, r.tmin, r.tmax);
+            tt_packet_ray_set(&w, n++, r.org, r.dir, r.tmin, r.tmax);
         }
     if (n == 0) return; /* (a tile is never empty; this tells the compiler) */
+    w.n = n;
 #if TT_STATS
     tt_packet_stats ps;
     memset(&ps, 0, sizeof ps);
-    accel->vt->intersect_packet_stats(accel, w, n, h, &ps);
+    accel->vt->intersect_packet_stats(accel, &w, h, &ps);
     tt_ray_stats_add(sum, &ps.rays);
     packet_stats_add(&f->packet_primary, &ps);
 #else
     (void)sum;
-    accel->vt->intersect_packet(accel, w, n, h);
+    accel->vt->intersect_packet(accel, &w, h);
 #endif
     n = 0;
     for (uint32_t y = y0; y < y1; y++)
@@ -99,7 +100,7 @@ static void TT_VARIANT(shadow_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *su
     if (f->packets != TT_PACKETS_OFF && !f->caster_hint) {
         /* the tile's shadow rays towards the light: one packet when
          * coherent (or always with TT_PACKETS_ON), else ray by ray */
-        tt_wray w[TT_TILE * TT_TILE];
+        tt_packet_rays w;
         uint8_t occ[TT_TILE * TT_TILE];
         uint32_t idx[TT_TILE * TT_TILE], hint[TT_TILE * TT_TILE];
         uint32_t n = 0;
@@ -112,28 +113,31 @@ static void TT_VARIANT(shadow_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *su
                 tt_hit h = {f->t[i], 0.0f, 0.0f, f->prim[i]};
                 tt_camera_basis_ray(&f->basis, x, y, &r);
                 if (!tt_shadow_ray_eps(f->scene, f->camera, f->eps, &r, &h, &s)) continue;
-                tt_wray_init(&w[n], s.org, s.dir, s.tmin, s.tmax);
+                tt_packet_ray_set(&w, n, s.org, s.dir, s.tmin, s.tmax);
                 hint[n] = f->end_hint[i];
                 idx[n++] = (uint32_t)i;
             }
-        if (f->packets == TT_PACKETS_ON || tt_packet_coherent(w, n)) {
+        w.n = n;
+        if (f->packets == TT_PACKETS_ON || tt_packet_coherent(&w)) {
 #if TT_STATS
             tt_packet_stats ps;
             memset(&ps, 0, sizeof ps);
-            vt->occluded_packet_stats(accel, w, n, occ, &ps);
+            vt->occluded_packet_stats(accel, &w, occ, &ps);
             tt_ray_stats_add(sum, &ps.rays);
             packet_stats_add(&f->packet_shadow, &ps);
 #else
-            vt->occluded_packet(accel, w, n, occ);
+            vt->occluded_packet(accel, &w, occ);
 #endif
         } else {
             for (uint32_t j = 0; j < n; j++) {
                 tt_trace_args args = {hint[j], TT_INVALID_ID, NULL};
+                tt_wray wj;
+                tt_packet_ray_wray(&w, j, &wj);
 #if TT_STATS
                 args.stats = sum;
-                occ[j] = (uint8_t)(vt->occluded_stats(accel, &w[j], &args, sum) != 0);
+                occ[j] = (uint8_t)(vt->occluded_stats(accel, &wj, &args, sum) != 0);
 #else
-                occ[j] = (uint8_t)(vt->occluded(accel, &w[j], &args) != 0);
+                occ[j] = (uint8_t)(vt->occluded(accel, &wj, &args) != 0);
 #endif
             }
         }

@@ -88,7 +88,7 @@ static int kd_occluded_stats(const tt_accel *a, const tt_wray *r, tt_trace_args 
  * traversal); other traversals and ISAs without a kernel trace the rays
  * one by one through the single-ray entries, so the answers are the same
  * either way. */
-static void kd_packet(const tt_accel *a, const tt_wray *rays, uint32_t n, int any, tt_hit *hits,
+static void kd_packet(const tt_accel *a, const tt_packet_rays *rays, int any, tt_hit *hits,
                       uint8_t *occ, tt_packet_stats *stats)
 {
     const int trav = a->options.kdtree.traversal;
@@ -97,17 +97,19 @@ static void kd_packet(const tt_accel *a, const tt_wray *rays, uint32_t n, int an
             ? tt_kd_packet_kernel(a->isa, stats != NULL)
             : NULL;
     if (fn) {
-        fn(&tree(a)->view, rays, n, any, hits, occ, stats);
+        fn(&tree(a)->view, rays, any, hits, occ, stats);
         return;
     }
-    for (uint32_t i = 0; i < n; i++) {
+    for (uint32_t i = 0; i < rays->n; i++) {
+        tt_wray w;
+        tt_packet_ray_wray(rays, i, &w);
         if (stats) {
             stats->fallback_rays++;
-            if (any) occ[i] = (uint8_t)(kd_occluded_stats(a, &rays[i], NULL, &stats->rays) != 0);
-            else kd_intersect_stats(a, &rays[i], &hits[i], NULL, &stats->rays);
+            if (any) occ[i] = (uint8_t)(kd_occluded_stats(a, &w, NULL, &stats->rays) != 0);
+            else kd_intersect_stats(a, &w, &hits[i], NULL, &stats->rays);
         } else {
-            if (any) occ[i] = (uint8_t)(kd_occluded(a, &rays[i], NULL) != 0);
-            else kd_intersect(a, &rays[i], &hits[i], NULL);
+            if (any) occ[i] = (uint8_t)(kd_occluded(a, &w, NULL) != 0);
+            else kd_intersect(a, &w, &hits[i], NULL);
         }
     }
 }
@@ -119,23 +121,23 @@ static int kd_packets_for(const tt_accel *a)
     const int trav = a->options.kdtree.traversal;
     return trav != TT_KD_BTR && trav != TT_KD_SLTR && trav != TT_KD_SEQ;
 }
-static void kd_intersect_packet(const tt_accel *a, const tt_wray *rays, uint32_t n, tt_hit *hits)
+static void kd_intersect_packet(const tt_accel *a, const tt_packet_rays *rays, tt_hit *hits)
 {
-    kd_packet(a, rays, n, 0, hits, NULL, NULL);
+    kd_packet(a, rays, 0, hits, NULL, NULL);
 }
-static void kd_occluded_packet(const tt_accel *a, const tt_wray *rays, uint32_t n, uint8_t *occ)
+static void kd_occluded_packet(const tt_accel *a, const tt_packet_rays *rays, uint8_t *occ)
 {
-    kd_packet(a, rays, n, 1, NULL, occ, NULL);
+    kd_packet(a, rays, 1, NULL, occ, NULL);
 }
-static void kd_intersect_packet_stats(const tt_accel *a, const tt_wray *rays, uint32_t n,
+static void kd_intersect_packet_stats(const tt_accel *a, const tt_packet_rays *rays,
                                       tt_hit *hits, tt_packet_stats *stats)
 {
-    kd_packet(a, rays, n, 0, hits, NULL, stats);
+    kd_packet(a, rays, 0, hits, NULL, stats);
 }
-static void kd_occluded_packet_stats(const tt_accel *a, const tt_wray *rays, uint32_t n,
+static void kd_occluded_packet_stats(const tt_accel *a, const tt_packet_rays *rays,
                                      uint8_t *occ, tt_packet_stats *stats)
 {
-    kd_packet(a, rays, n, 1, NULL, occ, stats);
+    kd_packet(a, rays, 1, NULL, occ, stats);
 }
 
 static uint32_t kd_locate(const tt_accel *a, const float *p) { return tt_kdtree_locate(tree(a), p); }

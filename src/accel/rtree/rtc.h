@@ -18,11 +18,11 @@
 typedef int (*tt_rtc_trace_fn)(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,
                                tt_ray_stats *stats);
 
-/* A packet traversal (rtc_packet.h): rays[0..n), n <= TT_PACKET_MAX, each
+/* A packet traversal (rtc_packet.h): rays->n <= TT_PACKET_MAX rows, each
  * answered exactly as the single-ray traversal answers it: closest hits
  * into hits (any = 0) or occlusion bytes into occ (any = 1). The _stats
  * form adds to *stats. */
-typedef void (*tt_rtc_packet_fn)(const tt_rtc *t, const tt_wray *rays, uint32_t n, int any,
+typedef void (*tt_rtc_packet_fn)(const tt_rtc *t, const tt_packet_rays *rays, int any,
                                  tt_hit *hits, uint8_t *occ, tt_packet_stats *stats);
 
 typedef struct rtc_tree {
@@ -90,9 +90,9 @@ TT_RTC_DECLARE_STACK(avx512)
 /* The packet units (rtc_packet_<isa>.c). */
 #ifdef TT_HAVE_X86_KERNELS
 #define TT_RTC_DECLARE_PACKET(isa)                                                                \
-    void tt_rtc_packet_##isa(const tt_rtc *t, const tt_wray *rays, uint32_t n, int any,           \
+    void tt_rtc_packet_##isa(const tt_rtc *t, const tt_packet_rays *rays, int any,           \
                              tt_hit *hits, uint8_t *occ, tt_packet_stats *stats);                 \
-    void tt_rtc_packet_##isa##_stats(const tt_rtc *t, const tt_wray *rays, uint32_t n, int any,   \
+    void tt_rtc_packet_##isa##_stats(const tt_rtc *t, const tt_packet_rays *rays, int any,   \
                                      tt_hit *hits, uint8_t *occ, tt_packet_stats *stats);
 TT_RTC_DECLARE_PACKET(avx2)
 TT_RTC_DECLARE_PACKET(avx512)

@@ -238,45 +238,45 @@ static int rtree_occluded_stats(const tt_accel *a, const tt_wray *r, tt_trace_ar
  * has one; otherwise (scalar, SSE4.2, the stackless walk, the complete
  * layout) the rays one by one through the single-ray entries, so the
  * answers are the same either way. */
-static void rtree_packet(const tt_accel *a, const tt_wray *rays, uint32_t n, int any,
-                         tt_hit *hits, uint8_t *occ, tt_packet_stats *stats)
+static void rtree_packet(const tt_accel *a, const tt_packet_rays *rays, int any, tt_hit *hits,
+                         uint8_t *occ, tt_packet_stats *stats)
 {
     const rt_tree *t = a->impl;
     if (t->layout == TT_RTREE_LAYOUT_COMPACT && t->compact.packet) {
-        if (stats) t->compact.packet_stats(&t->compact.c, rays, n, any, hits, occ, stats);
-        else t->compact.packet(&t->compact.c, rays, n, any, hits, occ, NULL);
+        if (stats) t->compact.packet_stats(&t->compact.c, rays, any, hits, occ, stats);
+        else t->compact.packet(&t->compact.c, rays, any, hits, occ, NULL);
         return;
     }
-    for (uint32_t i = 0; i < n; i++) {
+    for (uint32_t i = 0; i < rays->n; i++) {
+        tt_wray w;
+        tt_packet_ray_wray(rays, i, &w);
         if (stats) {
             stats->fallback_rays++;
-            if (any) occ[i] = (uint8_t)(rtree_occluded_stats(a, &rays[i], NULL, &stats->rays) != 0);
-            else rtree_intersect_stats(a, &rays[i], &hits[i], NULL, &stats->rays);
+            if (any) occ[i] = (uint8_t)(rtree_occluded_stats(a, &w, NULL, &stats->rays) != 0);
+            else rtree_intersect_stats(a, &w, &hits[i], NULL, &stats->rays);
         } else {
-            if (any) occ[i] = (uint8_t)(rtree_occluded(a, &rays[i], NULL) != 0);
-            else rtree_intersect(a, &rays[i], &hits[i], NULL);
+            if (any) occ[i] = (uint8_t)(rtree_occluded(a, &w, NULL) != 0);
+            else rtree_intersect(a, &w, &hits[i], NULL);
         }
     }
 }
-static void rtree_intersect_packet(const tt_accel *a, const tt_wray *rays, uint32_t n,
-                                   tt_hit *hits)
+static void rtree_intersect_packet(const tt_accel *a, const tt_packet_rays *rays, tt_hit *hits)
 {
-    rtree_packet(a, rays, n, 0, hits, NULL, NULL);
+    rtree_packet(a, rays, 0, hits, NULL, NULL);
 }
-static void rtree_occluded_packet(const tt_accel *a, const tt_wray *rays, uint32_t n,
-                                  uint8_t *occ)
+static void rtree_occluded_packet(const tt_accel *a, const tt_packet_rays *rays, uint8_t *occ)
 {
-    rtree_packet(a, rays, n, 1, NULL, occ, NULL);
+    rtree_packet(a, rays, 1, NULL, occ, NULL);
 }
-static void rtree_intersect_packet_stats(const tt_accel *a, const tt_wray *rays, uint32_t n,
+static void rtree_intersect_packet_stats(const tt_accel *a, const tt_packet_rays *rays,
                                          tt_hit *hits, tt_packet_stats *stats)
 {
-    rtree_packet(a, rays, n, 0, hits, NULL, stats);
+    rtree_packet(a, rays, 0, hits, NULL, stats);
 }
-static void rtree_occluded_packet_stats(const tt_accel *a, const tt_wray *rays, uint32_t n,
+static void rtree_occluded_packet_stats(const tt_accel *a, const tt_packet_rays *rays,
                                         uint8_t *occ, tt_packet_stats *stats)
 {
-    rtree_packet(a, rays, n, 1, NULL, occ, stats);
+    rtree_packet(a, rays, 1, NULL, occ, stats);
 }
 
 static uint32_t rtree_locate(const tt_accel *a, const float *p) { return rt_locate(a->impl, p); }

@@ -100,7 +100,8 @@ typedef struct kp_rays {
     _Alignas(64) float sy[KP_N];
     _Alignas(64) float sz[KP_N];
     _Alignas(64) uint32_t prim[KP_N];
-    const tt_wray *ray[KP_N];
+    uint16_t src[KP_N]; /* the lane's row in R                             */
+    const tt_packet_rays *R;
     uint32_t live[KP_V]; /* lanes whose ray meets the scene box           */
     uint32_t done[KP_V]; /* occlusion: lanes answered                     */
     uint32_t n, vecs;
@@ -111,6 +112,16 @@ typedef struct kp_rays {
 #define KP_INLINE static inline __attribute__((always_inline))
 
 static inline uint32_t kp_popcount(uint32_t x) { return (uint32_t)__builtin_popcount(x); }
+
+/* tt_intersect_triangle for row j of R (the rare zero-edge lanes: the
+ * ray's tt_wray is built only there) */
+static inline int kp_tri_row(const tt_packet_rays *R, uint32_t j, const float *p, float tmax,
+                             float *t, float *u, float *v)
+{
+    tt_wray w;
+    tt_packet_ray_wray(R, j, &w);
+    return tt_intersect_triangle(&w, p, p + 3, p + 6, tmax, t, u, v);
+}
 
 #endif
 
@@ -136,7 +147,8 @@ KP_INLINE uint32_t TT_VARIANT(KD_FN(kp_tris))(const tt_kd_view *T, const uint32_
                                               const pk_v oz, const pk_v sx, const pk_v sy,
                                               const pk_v sz, const pk_v tmin, pk_v *pbt,
                                               float *bu, float *bv, uint32_t *bp, uint32_t mm,
-                                              const tt_wray *const *ray, const int any)
+                                              const tt_packet_rays *R, const uint16_t *src,
+                                              const int any)
 {
     const pk_v zero = PK_SET1(0.0f), one = PK_SET1(1.0f);
     pk_v bt = *pbt;
@@ -206,7 +218,7 @@ KP_INLINE uint32_t TT_VARIANT(KD_FN(kp_tris))(const tt_kd_view *T, const uint32_
             for (; zl; zl &= zl - 1) {
                 const uint32_t l = (uint32_t)__builtin_ctz(zl);
                 float th, uh, vh;
-                if (!tt_intersect_triangle(ray[l], p, p + 3, p + 6, bts[l], &th, &uh, &vh))
+                if (!kp_tri_row(R, src[l], p, bts[l], &th, &uh, &vh))
                     continue;
                 out |= 1u << l;
                 if (any) {
@@ -328,7 +340,7 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_pairs))(const tt_kd_view *T, kp_rays *P, uint
                     float th, uh, vh;
                     if (zl >> l & 1u) {
                         const float *p = h ? p1 : p0;
-                        if (!tt_intersect_triangle(P->ray[base + lanes[r]], p, p + 3, p + 6,
+                        if (!kp_tri_row(P->R, P->src[base + lanes[r]], p,
                                                    best_t[r], &th, &uh, &vh))
                             continue;
                     } else if ((acc >> l & 1u) && ts[l] < best_t[r]) {
@@ -356,7 +368,7 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_pairs))(const tt_kd_view *T, kp_rays *P, uint
                 const uint32_t l = (uint32_t)__builtin_ctz(zl);
                 const float *p = l < H ? p0 : p1;
                 float th, uh, vh;
-                if (tt_intersect_triangle(P->ray[base + lanes[l]], p, p + 3, p + 6, bts[l], &th,
+                if (kp_tri_row(P->R, P->src[base + lanes[l]], p, bts[l], &th,
                                           &uh, &vh))
                     acc |= 1u << l;
             }
@@ -440,11 +452,11 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint3
 #undef KP_G
         _Alignas(64) float bu[PK_L], bv[PK_L], ts[PK_L];
         _Alignas(64) uint32_t bp[PK_L];
-        const tt_wray *ray[PK_L];
-        for (uint32_t r = 0; r < c; r++) ray[r] = P->ray[base + lanes[r]];
+        uint16_t src[PK_L];
+        for (uint32_t r = 0; r < c; r++) src[r] = P->src[base + lanes[r]];
         uint32_t out = TT_VARIANT(KD_FN(kp_tris))(T, refs, count, kx, ky, kz, ox, oy, oz, sx, sy,
                                                   sz, tmin, &bt, bu, bv, bp,
-                                                  c == 32 ? ~0u : (1u << c) - 1u, ray, any);
+                                                  c == 32 ? ~0u : (1u << c) - 1u, P->R, src, any);
         if (any) {
             for (; out; out &= out - 1) {
                 const uint32_t l = lanes[__builtin_ctz(out)];
@@ -476,7 +488,7 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint3
         pk_v bt = PK_LOAD(P->t + base);
         const uint32_t out = TT_VARIANT(KD_FN(kp_tris))(
             T, refs, count, kx, ky, kz, ox, oy, oz, sx, sy, sz, tmin, &bt, P->u + base,
-            P->v + base, P->prim + base, mm[j], P->ray + base, any);
+            P->v + base, P->prim + base, mm[j], P->R, P->src + base, any);
         if (any) P->done[vi] |= out;
         else PK_STORE(P->t + base, bt);
     }
@@ -596,31 +608,53 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_walk))(const tt_kd_view *T, kp_rays *P, uint3
  * group's signs fix each axis's near and far face (no ray here has a zero
  * direction component), so the faces are the same for all its lanes. */
 KP_INLINE void TT_VARIANT(KD_FN(kp_load))(const tt_kd_view *T, kp_rays *P,
-                                             const tt_wray *rays, const uint16_t *idx, uint32_t n)
+                                             const tt_packet_rays *R, const uint16_t *idx,
+                                             uint32_t n, uint32_t group)
 {
-    const tt_wray *r0 = &rays[idx[0]];
+    const uint32_t i0 = idx[0];
     P->n = n;
+    P->R = R;
     /* whole walks: lanes past n repeat the first ray, never live */
     P->vecs = (n + KP_RAYS - 1) / KP_RAYS * KP_K;
-    P->kx = r0->kx;
-    P->ky = r0->ky;
-    P->kz = r0->kz;
-    for (int k = 0; k < 3; k++) P->down[k] = r0->dir[k] < 0.0f;
+    /* the group (octant * 3 + kz) fixes tt_wray_init's permutation */
+    const int kz = (int)(group % 3u);
+    for (int k = 0; k < 3; k++) P->down[k] = (int)(group / 3u >> k & 1u);
+    {
+        const int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
+        P->kx = P->down[kz] ? ky : kx;
+        P->ky = P->down[kz] ? kx : ky;
+        P->kz = kz;
+    }
     const uint32_t lanes = P->vecs * PK_L;
+    _Alignas(64) float d[3][KP_N];
     for (uint32_t i = 0; i < lanes; i++) {
-        const tt_wray *r = &rays[idx[i < n ? i : 0]];
-        P->ray[i] = r;
-        P->o[0][i] = r->org[0];
-        P->o[1][i] = r->org[1];
-        P->o[2][i] = r->org[2];
-        P->inv[0][i] = r->inv[0];
-        P->inv[1][i] = r->inv[1];
-        P->inv[2][i] = r->inv[2];
-        P->tmin[i] = r->tmin;
-        P->t[i] = r->tmax;
-        P->sx[i] = r->sx;
-        P->sy[i] = r->sy;
-        P->sz[i] = r->sz;
+        const uint32_t j = i < n ? idx[i] : i0;
+        P->src[i] = (uint16_t)j;
+        for (int k = 0; k < 3; k++) {
+            P->o[k][i] = R->org[k][j];
+            d[k][i] = R->dir[k][j];
+        }
+        P->tmin[i] = R->tmin[j];
+        P->t[i] = R->tmax[j];
+    }
+    /* tt_wray_init's inv (tt_safe_inv: no component is zero here) and
+     * shear, a vector at a time with its IEEE operations */
+    {
+        const pk_v one = PK_SET1(1.0f), zero = PK_SET1(0.0f), tiny = PK_SET1(1e-30f);
+        const pk_v big = PK_SET1(1e30f), nbig = PK_SET1(-1e30f);
+        for (uint32_t base = 0; base < lanes; base += PK_L) {
+            for (int k = 0; k < 3; k++) {
+                const pk_v x = PK_LOAD(d[k] + base);
+                const pk_v huge = PK_BLEND(PK_CMP_LT(x, zero), big, nbig);
+                PK_STORE(P->inv[k] + base,
+                         PK_BLEND(PK_CMP_LT(PK_ANDNOT(PK_SET1(-0.0f), x), tiny), PK_DIV(one, x),
+                                  huge));
+            }
+            const pk_v dz = PK_LOAD(d[kz] + base);
+            PK_STORE(P->sx + base, PK_DIV(PK_LOAD(d[P->kx] + base), dz));
+            PK_STORE(P->sy + base, PK_DIV(PK_LOAD(d[P->ky] + base), dz));
+            PK_STORE(P->sz + base, PK_DIV(one, dz));
+        }
     }
     const int empty = T->empty;
     float m[3], fn[3], ff[3];
@@ -690,25 +724,44 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_single))(const tt_kd_view *T, const tt_wray *
  * dominant axis, each group traced in walks of KP_RAYS rays (small groups
  * ray by ray); closest hits into hits (any = 0) or occlusion bytes into
  * occ (any = 1). */
-void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_wray *rays, uint32_t n,
-                                     int any, tt_hit *hits, uint8_t *occ,
-                                     tt_packet_stats *stats)
+void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_packet_rays *R, int any,
+                                     tt_hit *hits, uint8_t *occ, tt_packet_stats *stats)
 {
+    const uint32_t n = R->n;
     uint16_t idx[KP_GROUPS][KP_N];
     uint32_t cnt[KP_GROUPS] = {0};
     TT_COUNT(stats, rays.rays, n);
-    for (uint32_t i = 0; i < n; i++) {
-        const tt_wray *r = &rays[i];
-        if (r->dir[0] == 0.0f || r->dir[1] == 0.0f || r->dir[2] == 0.0f) {
-            TT_VARIANT(KD_FN(kp_single))(T, r, any, any ? NULL : hits + i, any ? occ + i : NULL,
-                                         stats);
-            continue;
+    /* each ray's group, its compares a vector at a time (a scalar compare
+     * and branch per component was about 30 instructions a ray): the
+     * octant, and tt_wray_init's dominant axis (x wins ties, then y) */
+    const pk_v zero = PK_SET1(0.0f);
+    for (uint32_t o = 0; o < n; o += PK_L) {
+        /* (lanes past n read rows the packet does not use: their bits are
+         * dropped) */
+        const pk_v x = PK_LOAD(R->dir[0] + o), y = PK_LOAD(R->dir[1] + o),
+                   z = PK_LOAD(R->dir[2] + o);
+        const pk_v ax = PK_ANDNOT(PK_SET1(-0.0f), x), ay = PK_ANDNOT(PK_SET1(-0.0f), y),
+                   az = PK_ANDNOT(PK_SET1(-0.0f), z);
+        const pk_m m0 = PK_MAND(PK_CMP_GE(ax, ay), PK_CMP_GE(ax, az));
+        const uint32_t lanes = n - o < PK_L ? n - o : PK_L;
+        const uint32_t zb =
+            PK_BITS(PK_MOR(PK_MOR(PK_CMP_EQ(x, zero), PK_CMP_EQ(y, zero)), PK_CMP_EQ(z, zero)));
+        const uint32_t nx = PK_BITS(PK_CMP_LT(x, zero)), ny = PK_BITS(PK_CMP_LT(y, zero)),
+                       nz = PK_BITS(PK_CMP_LT(z, zero));
+        const uint32_t b0 = PK_BITS(m0), b1 = PK_BITS(PK_MANDNOT(m0, PK_CMP_GE(ay, az)));
+        for (uint32_t l = 0; l < lanes; l++) {
+            const uint32_t i = o + l;
+            if (zb >> l & 1u) {
+                tt_wray w;
+                tt_packet_ray_wray(R, i, &w);
+                TT_VARIANT(KD_FN(kp_single))(T, &w, any, any ? NULL : hits + i,
+                                             any ? occ + i : NULL, stats);
+                continue;
+            }
+            const uint32_t g = ((nx >> l & 1u) | (ny >> l & 1u) << 1 | (nz >> l & 1u) << 2) * 3u +
+                               2u - 2u * (b0 >> l & 1u) - (b1 >> l & 1u);
+            idx[g][cnt[g]++] = (uint16_t)i;
         }
-        const uint32_t g = ((uint32_t)(r->dir[0] < 0.0f) | (uint32_t)(r->dir[1] < 0.0f) << 1 |
-                            (uint32_t)(r->dir[2] < 0.0f) << 2) *
-                               3u +
-                           (uint32_t)r->kz;
-        idx[g][cnt[g]++] = (uint16_t)i;
     }
     _Alignas(64) kp_rays P;
     for (uint32_t g = 0; g < KP_GROUPS; g++) {
@@ -717,14 +770,16 @@ void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_wray *rays, u
         if (c < KP_MIN_RAYS) {
             for (uint32_t j = 0; j < c; j++) {
                 const uint32_t i = idx[g][j];
-                TT_VARIANT(KD_FN(kp_single))(T, &rays[i], any, any ? NULL : hits + i,
+                tt_wray w;
+                tt_packet_ray_wray(R, i, &w);
+                TT_VARIANT(KD_FN(kp_single))(T, &w, any, any ? NULL : hits + i,
                                              any ? occ + i : NULL, stats);
             }
             continue;
         }
         TT_COUNT(stats, packets, 1);
         TT_COUNT(stats, rays.boxes, c);
-        TT_VARIANT(KD_FN(kp_load))(T, &P, rays, idx[g], c);
+        TT_VARIANT(KD_FN(kp_load))(T, &P, R, idx[g], c, g);
         /* a walk inlined for each mode: the occlusion tests fold away */
         if (any)
             for (uint32_t v0 = 0; v0 < P.vecs; v0 += KP_K)

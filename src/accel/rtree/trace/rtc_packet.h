@@ -46,6 +46,8 @@
  * rtc_packet_avx512.c), RTC_ISA, RTC_BLOCKS_INTERSECT / _OCCLUDED (the
  * single-ray block kernels) and RTC_SINGLE (the unit's single-ray stack
  * traversal, for small octants). */
+#include <string.h>
+
 #include "accel/rtree/layout/rtc_layout.h"
 
 #ifndef RTC_PACKET_TYPES
@@ -94,7 +96,9 @@ typedef struct pk_rays {
     _Alignas(64) float sy[PK_N];
     _Alignas(64) float sz[PK_N];
     _Alignas(64) uint32_t prim[PK_N];
-    const tt_wray *ray[PK_N];
+    uint16_t src[PK_N];  /* the lane's row in R                            */
+    const tt_packet_rays *R;
+    uint32_t made[PK_G]; /* lanes whose w[] is built                       */
     uint32_t done[PK_G];  /* occlusion: rays answered                      */
     uint32_t valid[PK_G]; /* lanes holding rays                            */
     int8_t perm[PK_G];    /* the group's shared kx*9+ky*3+kz, or -1         */
@@ -103,7 +107,52 @@ typedef struct pk_rays {
     int ia;                    /* interval test usable (finite reciprocals) */
     float omin[3], omax[3], rmin[3], rmax[3], tmin_min;
     float tcut_max; /* no ray's test keeps a box entered beyond it */
+    /* lane l's ray for the single-ray triangle tests, built on first use
+     * (pk_wray): only the fallbacks want it (a group's few lanes or mixed
+     * shears at a leaf, zero edge functions) */
+    tt_wray w[PK_N];
 } pk_rays;
+
+/* Lane l's ray for the single-ray triangle tests (the block kernels of
+ * geometry/tri_block_*.h, tt_intersect_triangle): the fields they read,
+ * org, tmin, kx, ky, kz, sx, sy, sz, as tt_wray_init sets them, from the
+ * packet's rows (no division); dir, inv, rcp and tmax are left unset, and
+ * nothing else may take this ray. A shadow packet's few-lane groups take
+ * this path at many leaves (a whole tt_wray was 92 instructions a lane). */
+static inline const tt_wray *pk_wray(pk_rays *P, uint32_t l)
+{
+    const uint32_t g = l / PK_L, bit = 1u << (l % PK_L);
+    tt_wray *w = &P->w[l];
+    if (P->made[g] & bit) return w;
+    P->made[g] |= bit;
+    const tt_packet_rays *R = P->R;
+    const uint32_t j = P->src[l];
+    const float dir[3] = {R->dir[0][j], R->dir[1][j], R->dir[2][j]};
+    w->org[0] = P->ox[l];
+    w->org[1] = P->oy[l];
+    w->org[2] = P->oz[l];
+    w->tmin = P->tmin[l];
+    const float ax = fabsf(dir[0]), ay = fabsf(dir[1]), az = fabsf(dir[2]);
+    const int kz = (ax >= ay && ax >= az) ? 0 : (ay >= az ? 1 : 2);
+    const int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
+    const int neg = dir[kz] < 0.0f;
+    w->kx = neg ? ky : kx;
+    w->ky = neg ? kx : ky;
+    w->kz = kz;
+    w->sx = P->sx[l];
+    w->sy = P->sy[l];
+    w->sz = P->sz[l];
+    return w;
+}
+
+/* 1 for a negative float, -0 included (the octant of a direction: its
+ * reciprocal's sign, as the single-ray kernels pick near planes by it) */
+static inline uint32_t pk_sign(float x)
+{
+    uint32_t b;
+    memcpy(&b, &x, sizeof b);
+    return b >> 31;
+}
 
 /* A node waiting on the stack with its active rays. */
 typedef struct pk_entry {
@@ -134,10 +183,10 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_block))(pk_rays *P, const int any, ui
             const uint32_t l = base + (uint32_t)__builtin_ctz(m);
             m &= m - 1;
             if (any) {
-                if (RTC_BLOCKS_OCCLUDED(P->ray[l], b, 1, P->t[l])) P->done[g] |= 1u << (l - base);
+                if (RTC_BLOCKS_OCCLUDED(pk_wray(P, l), b, 1, P->t[l])) P->done[g] |= 1u << (l - base);
             } else {
                 tt_hit h = {P->t[l], P->u[l], P->v[l], P->prim[l]};
-                if (RTC_BLOCKS_INTERSECT(P->ray[l], b, 1, &h)) {
+                if (RTC_BLOCKS_INTERSECT(pk_wray(P, l), b, 1, &h)) {
                     P->t[l] = h.t;
                     P->u[l] = h.u;
                     P->v[l] = h.v;
@@ -210,7 +259,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_block))(pk_rays *P, const int any, ui
             const float vc[3] = {b->v[6][i], b->v[7][i], b->v[8][i]};
             float th, uh, vh;
             const tt_hit cur = {P->t[l], P->u[l], P->v[l], P->prim[l]};
-            if (tt_intersect_triangle(P->ray[l], va, vb, vc, any ? cur.t : tt_tri_tie_limit(&cur),
+            if (tt_intersect_triangle(pk_wray(P, l), va, vb, vc, any ? cur.t : tt_tri_tie_limit(&cur),
                                       &th, &uh, &vh) &&
                 (any || tt_tri_better(th, b->prim[i], &cur))) {
                 if (any) {
@@ -227,24 +276,46 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_block))(pk_rays *P, const int any, ui
     }
 }
 
+/* The packet's constants of a walk, in locals: the rows' offsets of each
+ * axis's near and far planes, and the interval test's broadcast bounds
+ * (read through P at every node they were reloaded and re-selected: P's
+ * uint32_t fields may alias the walk's masks, 174 instructions a node). */
+typedef struct TT_VARIANT(RTC_FN(pk_consts)) {
+    uint32_t nr[3], fr[3];
+    pk_v on[3], of[3], rlo[3], rhi[3], tn, tf;
+} TT_VARIANT(RTC_FN(pk_consts));
+
+TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_consts))(const pk_rays *P, uint32_t S,
+                                                    TT_VARIANT(RTC_FN(pk_consts)) *A)
+{
+    for (int k = 0; k < 3; k++) {
+        const int neg = P->nrow[k] != (uint32_t)k;
+        A->nr[k] = P->nrow[k] * S;
+        A->fr[k] = P->frow[k] * S;
+        A->on[k] = PK_SET1(neg ? P->omin[k] : P->omax[k]);
+        A->of[k] = PK_SET1(neg ? P->omax[k] : P->omin[k]);
+        A->rlo[k] = PK_SET1(P->rmin[k]);
+        A->rhi[k] = PK_SET1(P->rmax[k]);
+    }
+    A->tn = PK_SET1(P->tmin_min);
+    A->tf = PK_SET1(P->tcut_max);
+}
+
 /* The interval test of all S children of node record rec against the
  * packet's bounds: bit i clear where no ray of the packet can hit child i. */
-TT_RT_INLINE uint32_t TT_VARIANT(RTC_FN(rtc_pk_interval))(const pk_rays *P, const float *rec, uint32_t S,
+TT_RT_INLINE uint32_t TT_VARIANT(RTC_FN(rtc_pk_interval))(const TT_VARIANT(RTC_FN(pk_consts)) *A,
+                                                         const float *rec, uint32_t S,
                                                          float *tn_out)
 {
     uint32_t keep = 0;
     const float c1 = 1.0f / 4194304.0f;
     for (uint32_t i = 0; i < S; i += PK_L) {
-        pk_v tn = PK_SET1(P->tmin_min), tf = PK_SET1(P->tcut_max);
+        pk_v tn = A->tn, tf = A->tf;
         for (int k = 0; k < 3; k++) {
-            const int neg = P->nrow[k] != (uint32_t)k;
-            const pk_v rlo = PK_SET1(P->rmin[k]), rhi = PK_SET1(P->rmax[k]);
-            const pk_v dn = PK_SUB(PK_LOADU(tt_rtc_boxes(rec) + P->nrow[k] * S + i),
-                                   PK_SET1(neg ? P->omin[k] : P->omax[k]));
-            const pk_v df = PK_SUB(PK_LOADU(tt_rtc_boxes(rec) + P->frow[k] * S + i),
-                                   PK_SET1(neg ? P->omax[k] : P->omin[k]));
-            tn = PK_MAX(PK_MIN(PK_MUL(dn, rlo), PK_MUL(dn, rhi)), tn);
-            tf = PK_MIN(PK_MAX(PK_MUL(df, rlo), PK_MUL(df, rhi)), tf);
+            const pk_v dn = PK_SUB(PK_LOADU(tt_rtc_boxes(rec) + A->nr[k] + i), A->on[k]);
+            const pk_v df = PK_SUB(PK_LOADU(tt_rtc_boxes(rec) + A->fr[k] + i), A->of[k]);
+            tn = PK_MAX(PK_MIN(PK_MUL(dn, A->rlo[k]), PK_MUL(dn, A->rhi[k])), tn);
+            tf = PK_MIN(PK_MAX(PK_MUL(df, A->rlo[k]), PK_MUL(df, A->rhi[k])), tf);
         }
         tf = PK_ADD(tf, PK_MUL(PK_ABS(tf), PK_SET1(c1)));
         PK_STOREU(tn_out + i, tn);
@@ -269,6 +340,8 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
     for (uint32_t g = P->groups; g < PK_G; g++) cur.m[g] = 0;
     const float c1 = 1.0f / 4194304.0f, c2 = 1.0f / 65536.0f;
     const pk_v inf = PK_SET1(TT_INF);
+    TT_VARIANT(RTC_FN(pk_consts)) A;
+    TT_VARIANT(RTC_FN(rtc_pk_consts))(P, S, &A);
     (void)stats;
     for (;;) {
         const float *rec = tt_rtc_node(t, cur.node);
@@ -298,7 +371,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
         /* the interval test's entry distance of each child, for the packet */
         float tpk[TT_RT_MAX_M];
         const int itest = P->ia && S % PK_L == 0;
-        if (itest) cand &= TT_VARIANT(RTC_FN(rtc_pk_interval))(P, rec, S, tpk);
+        if (itest) cand &= TT_VARIANT(RTC_FN(rtc_pk_interval))(&A, rec, S, tpk);
         /* Occlusion asks any hit, not the nearest: a child's rays need only
          * the overlap test, and the children go near to far by the
          * packet's interval entry (as good an order, and free), not by a
@@ -314,10 +387,10 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
         while (cand) {
             const uint32_t c = (uint32_t)__builtin_ctz(cand);
             cand &= cand - 1;
-            const pk_v bnx = PK_SET1(box[P->nrow[0] * S + c]), bny = PK_SET1(box[P->nrow[1] * S + c]),
-                       bnz = PK_SET1(box[P->nrow[2] * S + c]);
-            const pk_v bfx = PK_SET1(box[P->frow[0] * S + c]), bfy = PK_SET1(box[P->frow[1] * S + c]),
-                       bfz = PK_SET1(box[P->frow[2] * S + c]);
+            const pk_v bnx = PK_SET1(box[A.nr[0] + c]), bny = PK_SET1(box[A.nr[1] + c]),
+                       bnz = PK_SET1(box[A.nr[2] + c]);
+            const pk_v bfx = PK_SET1(box[A.fr[0] + c]), bfy = PK_SET1(box[A.fr[1] + c]),
+                       bfz = PK_SET1(box[A.fr[2] + c]);
             pk_v vmin = inf;
             uint32_t g0 = PK_G, g1 = 0;
             uint32_t *mk = cm[nh];
@@ -453,66 +526,143 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
         }
     pop:
         if (!sp) return;
-        cur = stack[--sp];
+        /* the entry's mask words in use only (a whole pk_entry is 144
+         * bytes: a memcpy a pop) */
+        {
+            const pk_entry *e = &stack[--sp];
+            cur.node = e->node;
+            cur.level = e->level;
+            cur.g0 = e->g0;
+            cur.g1 = e->g1;
+            for (uint32_t g = e->g0; g <= e->g1; g++) cur.m[g] = e->m[g];
+        }
     }
 }
 
-/* Loads the rays idx[0..n) of rays[] into P (one octant). */
-TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_wray *rays, const uint32_t *idx,
-                                      uint32_t n)
+/* Loads the rows idx[0..n) of R (one octant) into P and prepares them a
+ * group at a time: reciprocals, the watertight test's shear (tt_wray_init's
+ * fields from its IEEE operations: 1 / d, d[kx] / d[kz], so bit for bit)
+ * and the packet's bounds. The batch used to build a tt_wray per ray for
+ * this (scalar selects, AoS stores) and this load copied them back into
+ * rows: about a third of a shadow ray's instructions. */
+TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_packet_rays *R,
+                                                  const uint32_t *idx, uint32_t n)
 {
     P->n = n;
     P->groups = (n + PK_L - 1) / PK_L;
+    P->R = R;
+    const uint32_t lanes = P->groups * PK_L;
+    const uint32_t i0 = idx[0];
     for (uint32_t k = 0; k < 3; k++) {
-        const int neg = rays[idx[0]].rcp[k] < 0.0f;
+        const int neg = pk_sign(R->dir[k][i0]) != 0;
         P->nrow[k] = neg ? k + 3 : k;
         P->frow[k] = neg ? k : k + 3;
     }
-    for (uint32_t i = 0; i < P->groups * PK_L; i++) {
-        const tt_wray *r = &rays[idx[i < n ? i : 0]];
-        P->ray[i] = r;
-        P->ox[i] = r->org[0];
-        P->oy[i] = r->org[1];
-        P->oz[i] = r->org[2];
-        P->rx[i] = r->rcp[0];
-        P->ry[i] = r->rcp[1];
-        P->rz[i] = r->rcp[2];
-        P->tmin[i] = r->tmin;
-        P->t[i] = r->tmax;
+    _Alignas(64) float d[3][PK_N];
+    if (idx[n - 1] - i0 == n - 1) {
+        /* consecutive rows (a tile of one octant, a run of shadow rays):
+         * straight copies */
+        const float *const from[8] = {R->org[0] + i0, R->org[1] + i0, R->org[2] + i0,
+                                      R->dir[0] + i0, R->dir[1] + i0, R->dir[2] + i0,
+                                      R->tmin + i0,   R->tmax + i0};
+        float *const to[8] = {P->ox, P->oy, P->oz, d[0], d[1], d[2], P->tmin, P->t};
+        /* whole vectors while they stay inside R's rows (lanes past n are
+         * overwritten below); memcpy was a libc call a row */
+        uint32_t i = 0;
+        for (; i < n && i0 + i + PK_L <= PK_N; i += PK_L)
+            for (int r = 0; r < 8; r++) PK_STORE(to[r] + i, PK_LOADU(from[r] + i));
+        for (; i < n; i++)
+            for (int r = 0; r < 8; r++) to[r][i] = from[r][i];
+        for (i = 0; i < n; i++) P->src[i] = (uint16_t)(i0 + i);
+    } else {
+        for (uint32_t i = 0; i < n; i++) {
+            const uint32_t j = idx[i];
+            P->src[i] = (uint16_t)j;
+            P->ox[i] = R->org[0][j];
+            P->oy[i] = R->org[1][j];
+            P->oz[i] = R->org[2][j];
+            d[0][i] = R->dir[0][j];
+            d[1][i] = R->dir[1][j];
+            d[2][i] = R->dir[2][j];
+            P->tmin[i] = R->tmin[j];
+            P->t[i] = R->tmax[j];
+        }
+    }
+    /* lanes past n repeat the first ray (inside every bound, never active) */
+    for (uint32_t i = n; i < lanes; i++) {
+        P->src[i] = (uint16_t)i0;
+        P->ox[i] = P->ox[0];
+        P->oy[i] = P->oy[0];
+        P->oz[i] = P->oz[0];
+        d[0][i] = d[0][0];
+        d[1][i] = d[1][0];
+        d[2][i] = d[2][0];
+        P->tmin[i] = P->tmin[0];
+        P->t[i] = P->t[0];
+    }
+    memset(P->prim, 0xff, lanes * sizeof(uint32_t)); /* TT_INVALID_ID */
+    const pk_v zero = PK_SET1(0.0f), one = PK_SET1(1.0f);
+    const pk_v inf = PK_SET1(TT_INF), ninf = PK_SET1(-TT_INF);
+    pk_v mag = zero, tlo = inf, thi = zero;
+    pk_v olo[3] = {inf, inf, inf}, ohi[3] = {ninf, ninf, ninf};
+    pk_v rlo[3] = {inf, inf, inf}, rhi[3] = {ninf, ninf, ninf};
+    float *const orow[3] = {P->ox, P->oy, P->oz}, *const rrow[3] = {P->rx, P->ry, P->rz};
+    for (uint32_t g = 0; g < P->groups; g++) {
+        const uint32_t o = g * PK_L;
+        const pk_v x = PK_LOAD(d[0] + o), y = PK_LOAD(d[1] + o), z = PK_LOAD(d[2] + o);
+        const pk_v dv[3] = {x, y, z};
+        for (uint32_t k = 0; k < 3; k++) {
+            const pk_v r = PK_DIV(one, dv[k]), ov = PK_LOAD(orow[k] + o);
+            PK_STORE(rrow[k] + o, r);
+            olo[k] = PK_MIN(ov, olo[k]);
+            ohi[k] = PK_MAX(ov, ohi[k]);
+            rlo[k] = PK_MIN(r, rlo[k]);
+            rhi[k] = PK_MAX(r, rhi[k]);
+            mag = PK_MAX(PK_ABS(r), mag);
+        }
+        const pk_v tmax = PK_LOAD(P->t + o);
         /* "tn - |tn| 2^-16 < t" (the full test's entry) implies
          * tn <= tcut, for t >= 0 */
-        P->tcut[i] = r->tmax + fabsf(r->tmax) * (1.0f / 32768.0f);
-        P->u[i] = P->v[i] = 0.0f;
-        P->prim[i] = TT_INVALID_ID;
-        P->sx[i] = r->sx;
-        P->sy[i] = r->sy;
-        P->sz[i] = r->sz;
-    }
-    /* the packet's bounds a group at a time, by vector min/max (lanes past
-     * n repeat ray 0, already inside them): was a scalar compare and select
-     * per ray and axis */
-    const float *const orow[3] = {P->ox, P->oy, P->oz}, *const rrow[3] = {P->rx, P->ry, P->rz};
-    const pk_v inf = PK_SET1(TT_INF), ninf = PK_SET1(-TT_INF);
-    pk_v mag = PK_SET1(0.0f), tlo = inf;
-    pk_v thi = PK_SET1(0.0f);
-    for (uint32_t o = 0; o < P->groups * PK_L; o += PK_L) {
+        const pk_v tcut = PK_ADD(tmax, PK_MUL(PK_ABS(tmax), PK_SET1(1.0f / 32768.0f)));
+        PK_STORE(P->tcut + o, tcut);
         tlo = PK_MIN(PK_LOAD(P->tmin + o), tlo);
-        thi = PK_MAX(PK_LOAD(P->tcut + o), thi);
+        thi = PK_MAX(tcut, thi);
+        PK_STORE(P->u + o, zero);
+        PK_STORE(P->v + o, zero);
+        /* tt_wray_init's shear, lane by lane with selects: kz the dominant
+         * axis (x wins ties, then y), kx, ky the next ones cyclically,
+         * swapped where d[kz] < 0 */
+        const pk_v ax = PK_ABS(x), ay = PK_ABS(y), az = PK_ABS(z);
+        const pk_m m0 = PK_MAND(PK_CMP_GE(ax, ay), PK_CMP_GE(ax, az));
+        const pk_m m1 = PK_MANDNOT(m0, PK_CMP_GE(ay, az));
+        const pk_v dkz = PK_BLEND(m0, PK_BLEND(m1, z, y), x);
+        const pk_v dkx = PK_BLEND(m0, PK_BLEND(m1, x, z), y);
+        const pk_v dky = PK_BLEND(m0, PK_BLEND(m1, y, x), z);
+        const pk_m neg = PK_CMP_LT(dkz, zero);
+        PK_STORE(P->sx + o, PK_DIV(PK_BLEND(neg, dkx, dky), dkz));
+        PK_STORE(P->sy + o, PK_DIV(PK_BLEND(neg, dky, dkx), dkz));
+        PK_STORE(P->sz + o, PK_DIV(one, dkz));
+        const uint32_t left = n - o;
+        const uint32_t valid = left >= PK_L ? (1u << PK_L) - 1u : (1u << left) - 1u;
+        P->valid[g] = valid;
+        P->done[g] = 0;
+        P->made[g] = 0;
+        /* the group's shared permutation, or -1 */
+        const uint32_t b0 = PK_BITS(m0) & valid, b1 = PK_BITS(m1) & valid,
+                       bn = PK_BITS(neg) & valid;
+        if ((b0 && b0 != valid) || (b1 && b1 != valid) || (bn && bn != valid)) {
+            P->perm[g] = -1;
+        } else {
+            const int kz = b0 ? 0 : b1 ? 1 : 2;
+            const int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
+            P->perm[g] = (int8_t)(bn ? ky * 9 + kx * 3 + kz : kx * 9 + ky * 3 + kz);
+        }
     }
     for (uint32_t k = 0; k < 3; k++) {
-        pk_v olo = inf, ohi = ninf, rlo = inf, rhi = ninf;
-        for (uint32_t o = 0; o < P->groups * PK_L; o += PK_L) {
-            const pk_v ov = PK_LOAD(orow[k] + o), rv = PK_LOAD(rrow[k] + o);
-            olo = PK_MIN(ov, olo);
-            ohi = PK_MAX(ov, ohi);
-            rlo = PK_MIN(rv, rlo);
-            rhi = PK_MAX(rv, rhi);
-            mag = PK_MAX(PK_ABS(rv), mag);
-        }
-        P->omin[k] = PK_HMIN(olo);
-        P->omax[k] = PK_HMAX(ohi);
-        P->rmin[k] = PK_HMIN(rlo);
-        P->rmax[k] = PK_HMAX(rhi);
+        P->omin[k] = PK_HMIN(olo[k]);
+        P->omax[k] = PK_HMAX(ohi[k]);
+        P->rmin[k] = PK_HMIN(rlo[k]);
+        P->rmax[k] = PK_HMAX(rhi[k]);
     }
     P->tmin_min = PK_HMIN(tlo);
     /* a ray's own test keeps a box only where tn - |tn| 2^-16 < t <= tmax
@@ -522,22 +672,10 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_wray *ray
     P->tcut_max = PK_HMAX(thi);
     /* finite reciprocals (the batch's rays have no NaN) */
     P->ia = PK_HMAX(mag) < TT_INF;
-    for (uint32_t g = 0; g < P->groups; g++) {
-        const uint32_t lanes = n - g * PK_L >= PK_L ? PK_L : n - g * PK_L;
-        P->valid[g] = lanes == 32 ? ~0u : (1u << lanes) - 1u;
-        P->done[g] = 0;
-        const tt_wray *r0 = P->ray[g * PK_L];
-        int8_t perm = (int8_t)(r0->kx * 9 + r0->ky * 3 + r0->kz);
-        for (uint32_t l = 1; l < lanes; l++) {
-            const tt_wray *r = P->ray[g * PK_L + l];
-            if (r->kx != r0->kx || r->ky != r0->ky || r->kz != r0->kz) perm = -1;
-        }
-        P->perm[g] = perm;
-    }
 }
 
 /* One packet: the rays ix[0..c) of one octant loaded, walked, answered. */
-TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_trace))(const tt_rtc *t, const tt_wray *rays,
+TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_trace))(const tt_rtc *t, const tt_packet_rays *rays,
                                                    const uint32_t *ix, uint32_t c, int any,
                                                    tt_hit *hits, uint8_t *occ, pk_rays *P,
                                                    tt_packet_stats *stats)
@@ -572,17 +710,17 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_trace))(const tt_rtc *t, const tt_wra
     }
 }
 
-/* The entry point: rays[0..n) (n <= TT_PACKET_MAX) split by octant, each
- * octant's rays a packet (or ray by ray when few); closest hits into hits
- * (any = 0) or occlusion bytes into occ (any = 1). */
-void TT_VARIANT(RTC_FN(tt_rtc_packet))(const tt_rtc *t, const tt_wray *rays, uint32_t n, int any,
+/* The entry point: the rows of R (R->n <= TT_PACKET_MAX) split by octant,
+ * each octant's rays a packet (or ray by ray when few); closest hits into
+ * hits (any = 0) or occlusion bytes into occ (any = 1), by row. */
+void TT_VARIANT(RTC_FN(tt_rtc_packet))(const tt_rtc *t, const tt_packet_rays *R, int any,
                                        tt_hit *hits, uint8_t *occ, tt_packet_stats *stats)
 {
+    const uint32_t n = R->n;
     uint32_t idx[8][PK_N], cnt[8] = {0};
     for (uint32_t i = 0; i < n; i++) {
-        const tt_wray *r = &rays[i];
-        const uint32_t o = (uint32_t)(r->rcp[0] < 0.0f) | (uint32_t)(r->rcp[1] < 0.0f) << 1 |
-                           (uint32_t)(r->rcp[2] < 0.0f) << 2;
+        const uint32_t o = pk_sign(R->dir[0][i]) | pk_sign(R->dir[1][i]) << 1 |
+                           pk_sign(R->dir[2][i]) << 2;
         idx[o][cnt[o]++] = i;
     }
     TT_COUNT(stats, rays.rays, n);
@@ -594,13 +732,15 @@ void TT_VARIANT(RTC_FN(tt_rtc_packet))(const tt_rtc *t, const tt_wray *rays, uin
             for (uint32_t j = 0; j < c; j++) {
                 const uint32_t i = idx[o][j];
                 tt_hit h;
+                tt_wray w;
+                tt_packet_ray_wray(R, i, &w);
 #if TT_STATS
                 const uint64_t before = stats->rays.rays;
-                const int r = RTC_SINGLE_STATS(t, &rays[i], any, &h, &stats->rays);
+                const int r = RTC_SINGLE_STATS(t, &w, any, &h, &stats->rays);
                 stats->rays.rays = before; /* counted once above */
                 TT_COUNT(stats, fallback_rays, 1);
 #else
-                const int r = RTC_SINGLE(t, &rays[i], any, &h, NULL);
+                const int r = RTC_SINGLE(t, &w, any, &h, NULL);
 #endif
                 if (any) occ[i] = (uint8_t)(r != 0);
                 else hits[i] = h;
@@ -612,7 +752,7 @@ void TT_VARIANT(RTC_FN(tt_rtc_packet))(const tt_rtc *t, const tt_wray *rays, uin
         const uint32_t per = (cnt[o] + runs - 1) / runs;
         for (uint32_t c0 = 0; c0 < cnt[o]; c0 += per) {
             const uint32_t k = cnt[o] - c0 < per ? cnt[o] - c0 : per;
-            TT_VARIANT(RTC_FN(rtc_pk_trace))(t, rays, idx[o] + c0, k, any, hits, occ, &P, stats);
+            TT_VARIANT(RTC_FN(rtc_pk_trace))(t, R, idx[o] + c0, k, any, hits, occ, &P, stats);
         }
     }
 }
