@@ -22,7 +22,7 @@ def test_build_options_layout():
     r, k = o.rtree, o.kdtree
     assert (r.build, r.layout, r.strategy, r.m, r.M, r.reinsert) == (3, 1, 4, 2, 0, 1)
     assert abs(r.reinsert_fraction - 0.3) < 1e-6 and r.reinsert_far == 1
-    assert (r.split, r.traversal) == (0, 0)
+    assert (r.split, r.traversal, r.split_budget) == (0, 0, 0.0)
     assert (k.builder, k.dmin, k.max_depth, k.traversal, k.shadow_caster_hint) == (0, 0, 0, 0, 0)
     assert (k.cost_traversal, abs(k.cost_intersect - 0.2) < 1e-6) == (1.0, True)
     assert abs(k.empty_bonus - 0.2) < 1e-6

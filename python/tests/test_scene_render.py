@@ -59,6 +59,9 @@ def test_structure_options(small_scene):
         changed = stats("rtree", build="insert", **opts)
         assert changed["sah_cost"] != insert["sah_cost"], opts
     assert stats("rtree", build="str")["sah_cost"] != stats("rtree", build="sah")["sah_cost"]
+    # split references: more references than triangles, the same tree otherwise
+    split = stats("rtree", split_budget=0.25)
+    assert split["references"] > stats("rtree")["references"]
     assert "layout_compact" in stats("rtree", build="sah", layout="compact")
     assert "layout_compact" not in stats("rtree", build="sah", layout="complete")
     kd = stats("kdtree")

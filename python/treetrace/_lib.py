@@ -45,7 +45,8 @@ class RtreeOptions(ctypes.Structure):
     _fields_ = [("build", ctypes.c_int), ("layout", ctypes.c_int), ("strategy", ctypes.c_int),
                 ("m", ctypes.c_int), ("M", ctypes.c_int), ("reinsert", ctypes.c_int),
                 ("reinsert_fraction", ctypes.c_float), ("reinsert_far", ctypes.c_int),
-                ("split", ctypes.c_int), ("traversal", ctypes.c_int)]
+                ("split", ctypes.c_int), ("traversal", ctypes.c_int),
+                ("split_budget", ctypes.c_float)]
 
 
 class KdtreeOptions(ctypes.Structure):

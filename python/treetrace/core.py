@@ -296,6 +296,7 @@ def _build_options(accel, isa, traversal, options):
         "reinsert_mode": lambda x: setattr(r, "reinsert_far",
                                            _choice("reinsert_mode", x, ("close", "far"))),
         "split": lambda x: setattr(r, "split", _choice("split", x, _SPLITS)),
+        "split_budget": lambda x: setattr(r, "split_budget", float(x)),
     }
     kd_opts = {
         "builder": lambda x: setattr(k, "builder", _choice("builder", x, _KD_BUILDERS)),
@@ -326,7 +327,7 @@ class Accel(RayCasting):
     Accel(scene, "rtree" | "kdtree" | "bruteforce" | "embree", isa="auto",
           traversal=None, **options)
     rtree options: build, layout, strategy, m, M, reinsert, reinsert_fraction,
-    reinsert_mode, split; kdtree options: builder, dmin (None: the root's box
+    reinsert_mode, split, split_budget; kdtree options: builder, dmin (None: the root's box
     only), cost_traversal, cost_intersect, empty_bonus, max_depth,
     shadow_hint; embree: quality ("high", "medium", "low"). Names as in
     `treetrace render --help`. Rays: intersect/occluded (arrays of
