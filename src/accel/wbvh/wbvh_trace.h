@@ -110,6 +110,9 @@ done:
 __attribute__((flatten)) int TT_VARIANT(RTC_FN(tt_wbvh_trace))(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,
                                       tt_ray_stats *stats)
 {
+#ifdef RTC_BOX_NEEDS_SCALAR /* (rtc_box_x86.h: rays no FMA unit can cull) */
+    if (RTC_BOX_NEEDS_SCALAR(r)) return TT_VARIANT(tt_wbvh_trace_scalar)(t, r, any, hit, stats);
+#endif
     switch (t->S) {
     case 4:
         return any ? TT_VARIANT(RTC_FN(wbvh_trace_m))(t, 4, 1, r, hit, stats)

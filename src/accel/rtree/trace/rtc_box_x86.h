@@ -75,6 +75,19 @@ static inline void rtc_lanes_init(rtc_lanes *s, const tt_wray *r)
 #undef RTC_SET1
 }
 
+/* A ray whose three direction components are all below about 3e-39
+ * (denormal or zero: rcp is +-inf on every axis) leaves the FMA units
+ * nothing to cull with: every axis gives NaN, which the accumulation
+ * ignores, so even an unused child (all bounds +inf) would pass and its
+ * invalid reference be followed. Such rays (rare, but the ray contract
+ * accepts them) are traced by the scalar kernel instead, whose two-step
+ * slab test rejects unused children and gives the same answers. */
+#if defined(__FMA__)
+#define RTC_BOX_NEEDS_SCALAR(r)                                                                   \
+    (!(fabsf((r)->rcp[0]) < TT_INF) && !(fabsf((r)->rcp[1]) < TT_INF) &&                          \
+     !(fabsf((r)->rcp[2]) < TT_INF))
+#endif
+
 #if defined(__AVX512F__)
 #define RTC_LO128(x) _mm512_castps512_ps128(x)
 #define RTC_LO256(x) _mm512_castps512_ps256(x)

@@ -160,6 +160,9 @@ done:
 __attribute__((flatten)) int TT_VARIANT(RTC_FN(tt_rtc_stack))(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,
                                      tt_ray_stats *stats)
 {
+#ifdef RTC_BOX_NEEDS_SCALAR
+    if (RTC_BOX_NEEDS_SCALAR(r)) return TT_VARIANT(tt_rtc_stack_scalar)(t, r, any, hit, stats);
+#endif
     switch (t->S) {
     case 4:
         return any ? TT_VARIANT(RTC_FN(rtc_stack_m))(t, 4, 1, r, hit, stats)
