@@ -27,6 +27,15 @@ static inline void rt_box_grow(float b[6], const float o[6])
     }
 }
 
+/* The box of one triangle's nine floats (v0, v1, v2). */
+static inline void rt_box_of_triangle(const float v[9], float b[6])
+{
+    for (int k = 0; k < 3; k++) {
+        b[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
+        b[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
+    }
+}
+
 /* The mark of an empty slot or unused child in both packed layouts: all six
  * bounds +inf (rtree_packed.h, rtc_layout.h). */
 static inline int rt_box_is_empty_mark(const float b[6])

@@ -110,12 +110,7 @@ static tt_status check_leaf(walk *w, uint32_t n, uint32_t i, uint32_t ref, int l
                             "%u differ from the scene's", i, n, id);
         }
         float tb[6];
-        rt_box_empty(tb);
-        for (int q = 0; q < 3; q++)
-            for (int a = 0; a < 3; a++) {
-                tb[a] = rt_min(tb[a], v[3 * q + a]);
-                tb[a + 3] = rt_max(tb[a + 3], v[3 * q + a]);
-            }
+        rt_box_of_triangle(v, tb);
         rt_box_grow(box, tb);
         if (w->cover) {
             float part[6];
@@ -256,12 +251,7 @@ tt_status rtc_check(tt_context *ctx, const rtc_tree *t, const tt_scene *scene)
         if (st == TT_OK && w.cover && w.seen[id]) {
             const float *v = scene->tri + 9 * id;
             float tb[6];
-            rt_box_empty(tb);
-            for (int q = 0; q < 3; q++)
-                for (int a = 0; a < 3; a++) {
-                    tb[a] = rt_min(tb[a], v[3 * q + a]);
-                    tb[a + 3] = rt_max(tb[a + 3], v[3 * q + a]);
-                }
+            rt_box_of_triangle(v, tb);
             if (!rt_box_equal(tb, w.cover + 6 * id))
                 st = tt_error(ctx, TT_ERR_INVARIANT, "rtree compact: the leaves of triangle %zu "
                               "do not cover its box", id);

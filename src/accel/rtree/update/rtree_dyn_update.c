@@ -23,14 +23,6 @@
 #include "accel/rtree/rtree_box.h"
 #include "accel/rtree/update/rtree_dyn.h"
 
-static void tri_bounds(const float *v, float bx[6])
-{
-    for (int k = 0; k < 3; k++) {
-        bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
-        bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
-    }
-}
-
 static float diag2(const float b[6])
 {
     float s = 0.0f;
@@ -57,6 +49,16 @@ static int threads_for(tt_context *ctx, size_t changed)
 {
     if (changed < ((size_t)1 << 17)) return 1;
     return tt_context_threads(ctx) > 0 ? tt_context_threads(ctx) : omp_get_max_threads();
+}
+
+/* The record of an update answered by rt_dyn_deform alone (moves only). */
+static void deformed(rt_dyn *d, size_t moved, double t0)
+{
+    d->last_refit = moved;
+    d->last_removed = d->last_inserted = d->last_moved_far = 0;
+    d->last_tree_s = tt_now() - t0;
+    d->last_layout_s = 0.0;
+    d->updates++;
 }
 
 tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *scene,
@@ -94,11 +96,7 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
         for (size_t id = 0; id < T; id++) changed += stamp[id] > since;
         moved = changed;
         if (moved * 4 >= live && moved > 0 && rt_dyn_deform(d, t, scene, threads_for(ctx, changed))) {
-            d->last_refit = moved;
-            d->last_removed = d->last_inserted = d->last_moved_far = 0;
-            d->last_tree_s = tt_now() - t0;
-            d->last_layout_s = 0.0;
-            d->updates++;
+            deformed(d, moved, t0);
             return TT_OK;
         }
         changed = moved = 0; /* the general path: the list */
@@ -121,11 +119,7 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
     size_t removed = 0, inserted = 0, far = 0, refit = 0;
     /* a pure deformation (only moves): one walk refits and writes it all */
     if (deform && moved == changed && rt_dyn_deform(d, t, scene, threads_for(ctx, changed))) {
-        d->last_refit = moved;
-        d->last_removed = d->last_inserted = d->last_moved_far = 0;
-        d->last_tree_s = tt_now() - t0;
-        d->last_layout_s = 0.0;
-        d->updates++;
+        deformed(d, moved, t0);
         return TT_OK;
     }
 
@@ -146,7 +140,7 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
         for (size_t i = 0; i < changed; i++) {
             const uint32_t id = ids[i];
             if (tt_scene_is_dead(scene, id) || d->leaf_of[id] == TT_INVALID_ID) continue;
-            tri_bounds(scene->tri + 9 * (size_t)id, d->tri_box + 6 * (size_t)id);
+            rt_box_of_triangle(scene->tri + 9 * (size_t)id, d->tri_box + 6 * (size_t)id);
             refit++;
         }
     }
@@ -161,7 +155,7 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
         const int reborn = scene->born[id] > since;
         float nb[6], lb[6], grown[6];
         if (!reborn) {
-            tri_bounds(scene->tri + 9 * (size_t)id, nb);
+            rt_box_of_triangle(scene->tri + 9 * (size_t)id, nb);
             rt_node_bounds(&d->b, d->leaf_of[id], lb);
             memcpy(grown, lb, sizeof grown);
             rt_box_grow(grown, nb);
@@ -192,7 +186,7 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
     for (size_t i = 0; i < changed && st == TT_OK; i++) {
         const uint32_t id = ids[i];
         if (tt_scene_is_dead(scene, id) || d->leaf_of[id] != TT_INVALID_ID) continue;
-        tri_bounds(scene->tri + 9 * (size_t)id, d->tri_box + 6 * (size_t)id);
+        rt_box_of_triangle(scene->tri + 9 * (size_t)id, d->tri_box + 6 * (size_t)id);
         st = rt_dyn_insert(d, id);
         inserted++;
     }
