@@ -222,6 +222,35 @@ size_t tt_test_compare_random(const tt_scene *scene, const tt_accel *test, const
     return s.bad;
 }
 
+size_t tt_test_compare_tiny_dirs(const tt_scene *scene, const tt_accel *test, const tt_accel *ref,
+                                 uint32_t n, uint32_t seed)
+{
+    /* below the reciprocal's overflow threshold (1/x = inf for x < ~2.9e-39) */
+    static const float tiny[] = {0.0f, 1e-45f, 1e-40f, 1e-39f, 2.5e-39f};
+    const uint32_t n_tiny = (uint32_t)(sizeof tiny / sizeof tiny[0]);
+    cmp_state s = {0, tt_accel_name(test), rule_for(test, ref)};
+    float lo[3], hi[3];
+    tt_scene_bounds(scene, lo, hi);
+    if (!(lo[0] <= hi[0])) lo[0] = lo[1] = lo[2] = -1.0f, hi[0] = hi[1] = hi[2] = 1.0f;
+    uint32_t x = seed ? seed : 1;
+    for (uint32_t i = 0; i < n; i++) {
+        tt_ray r;
+        for (int k = 0; k < 3; k++) {
+            r.org[k] = lo[k] + (hi[k] - lo[k]) * (0.2f + 0.6f * unit(&x));
+            uint32_t b = next(&x);
+            r.dir[k] = tiny[b % n_tiny] * ((b >> 8) & 1 ? -1.0f : 1.0f);
+        }
+        if (r.dir[0] == 0.0f && r.dir[1] == 0.0f && r.dir[2] == 0.0f) r.dir[i % 3] = tiny[2];
+        r.tmin = 0.0f;
+        r.tmax = INFINITY;
+        check_closest(&s, test, ref, &r, TT_INVALID_ID, NULL, NULL);
+        r.tmax = 1e30f;
+        check_occluded(&s, test, ref, &r, TT_INVALID_ID);
+    }
+    if (s.bad) fprintf(stderr, "%s: %zu of %u tiny-direction rays disagree\n", s.what, s.bad, n);
+    return s.bad;
+}
+
 size_t tt_test_compare_rays(const tt_accel *test, const tt_accel *ref, const tt_ray *rays,
                             size_t n)
 {

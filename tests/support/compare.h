@@ -53,6 +53,16 @@ size_t tt_test_compare_view_multi(const tt_scene *scene, const tt_accel *const *
 size_t tt_test_compare_random(const tt_scene *scene, const tt_accel *test, const tt_accel *ref,
                               uint32_t n, uint32_t seed);
 
+/* n rays whose every direction component is tiny (zero, or a subnormal or
+ * small normal float below ~3e-39, so each reciprocal is infinite), from
+ * origins inside the scene box: closest hit and occlusion. A SIMD box test
+ * that fuses the subtraction and the multiply by the reciprocal meets 0 *
+ * inf = NaN on every axis at once here; with NaN slabs an unused child
+ * (bounds +inf) passed and its invalid reference was followed (a crash in
+ * the R-tree's and the wide BVH's AVX2 kernels before the fix). */
+size_t tt_test_compare_tiny_dirs(const tt_scene *scene, const tt_accel *test, const tt_accel *ref,
+                                 uint32_t n, uint32_t seed);
+
 /* Rays given by the caller, closest hit and occlusion. */
 size_t tt_test_compare_rays(const tt_accel *test, const tt_accel *ref, const tt_ray *rays,
                             size_t n);

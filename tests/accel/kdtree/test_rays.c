@@ -185,6 +185,9 @@ static void rays_on(tt_context *ctx, tt_scene *scene, const char *what, uint32_t
                     tt_test_compare_random(scene, &views[tr], ref, n_random, 11u + (uint32_t)d);
                 CHECK_MSG(bad == 0, "%s, %s, %s, %s, dmin %d: %zu random rays disagree", what, bn,
                           kd_traversal_names[tr], isa, dmins[d], bad);
+                bad = tt_test_compare_tiny_dirs(scene, &views[tr], ref, 100, 13u + (uint32_t)d);
+                CHECK_MSG(bad == 0, "%s, %s, %s, %s, dmin %d: %zu tiny-direction rays disagree", what,
+                          bn, kd_traversal_names[tr], isa, dmins[d], bad);
                 bad = tt_test_compare_rays(&views[tr], ref, rays, n);
                 CHECK_MSG(bad == 0, "%s, %s, %s, %s, dmin %d: %zu split-plane rays disagree", what, bn,
                           kd_traversal_names[tr], isa, dmins[d], bad);

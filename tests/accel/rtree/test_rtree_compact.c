@@ -42,6 +42,8 @@ static void one(tt_context *ctx, const tt_scene *scene, const tt_accel *bf,
     if (bf) {
         bad = tt_test_compare_random(scene, a, bf, 2000, 77u + (uint32_t)o->rtree.M);
         CHECK_MSG(bad == 0, "%s, %s: %zu random rays disagree", view, describe(o), bad);
+        bad = tt_test_compare_tiny_dirs(scene, a, bf, 300, 5u + (uint32_t)o->rtree.M);
+        CHECK_MSG(bad == 0, "%s, %s: %zu tiny-direction rays disagree", view, describe(o), bad);
     }
     tt_accel_destroy(a);
 }

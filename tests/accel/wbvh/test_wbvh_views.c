@@ -39,6 +39,9 @@ static void view(tt_context *ctx, const char *file, const char *view_name, uint3
                 bad = tt_test_compare_random(scene, a, bf, 2000, 91u + (uint32_t)widths[k]);
                 CHECK_MSG(bad == 0, "%s M=%d isa=%s: %zu random rays disagree", view_name,
                           widths[k], tt_isa_name((tt_isa)isa), bad);
+                bad = tt_test_compare_tiny_dirs(scene, a, bf, 300, 3u + (uint32_t)widths[k]);
+                CHECK_MSG(bad == 0, "%s M=%d isa=%s: %zu tiny-direction rays disagree", view_name,
+                          widths[k], tt_isa_name((tt_isa)isa), bad);
             }
             tt_accel_destroy(a);
         }
