@@ -1,26 +1,18 @@
 /* The engine's leaf blocks: for the CPU's AVX2 / AVX-512 single-ray kernels,
- * every non-empty leaf's triangles are copied, in reference order, into a
- * run of lanes of triangle blocks (geometry/tri_block.h: 8 lanes, structure
- * of arrays, zero-area triangles and unused lanes NaN), so a leaf is tested
+ * every non-empty leaf's triangles are copied, in reference order, into
+ * triangle blocks of its own (geometry/tri_block.h: 8 lanes, structure of
+ * arrays, zero-area triangles and unused lanes NaN), so a leaf is tested
  * with plain vector loads from one or a few contiguous blocks instead of
  * reading each triangle through refs[] (a dependent load a triangle, and
  * an 8x8 transpose a group of eight). The kernels walk a copy of the nodes
- * whose leaves' u.first is the index of their first lane (kd_layout.h's
+ * whose leaves' u.first is the index of their first block (kd_layout.h's
  * tt_kd_view.blocks).
- *
- * Leaves share blocks: a leaf starts right after the one before (depth-
- * first order) unless it would then touch more blocks than
- * tt_tri_block_count(count), in which case it starts a block; so no leaf
- * costs more block tests than in blocks of its own, and the padding (21-25%
- * of the lanes on the shared scenes with blocks of its own) drops to 8-10%.
- * The leaf test masks off the other leaves' lanes.
  *
  * Only those kernels read them: the counting variants (the papers'
  * statistics), the scalar and SSE4.2 kernels, packets, the GPU and the
  * saved file keep nodes[] and refs[] as they are; a loaded tree rebuilds
- * the blocks. The cost: 320 bytes a block (36 a triangle, 4 an id) and a
- * node copy, several times the tree itself: 40 bytes a reference is the
- * floor of a copy, where refs[] costs 4. */
+ * the blocks. The cost: 320 bytes a block (36 a triangle, 4 an id, lanes
+ * padded to 8 per leaf) and a node copy, several times the tree itself. */
 #ifndef TT_ACCEL_KDTREE_KD_BLOCKS_H
 #define TT_ACCEL_KDTREE_KD_BLOCKS_H
 

@@ -18,9 +18,10 @@ static uint32_t kd_lines_leaf(kd_lines_builder *b, uint32_t slot)
     const tt_kd_node n = b->nodes[slot];
     const uint32_t c = tt_kd_leaf_count(n.bits);
     if (c == 0) return TT_KD_LINE_EMPTY;
-    /* (TT_KD_LINE_INDEX itself is left out: with c 127 it is EMPTY.) */
-    if (c <= TT_KD_LINE_CMAX && n.u.first < TT_KD_LINE_INDEX)
-        return TT_KD_LINE_LEAF | c << 24 | n.u.first;
+    const uint32_t blocks = tt_tri_block_count(c);
+    /* (TT_KD_LINE_INDEX itself is left out: with n 15 it is EMPTY.) */
+    if (blocks <= TT_KD_LINE_NMAX && n.u.first < TT_KD_LINE_INDEX)
+        return TT_KD_LINE_LEAF | blocks << 27 | n.u.first;
     if (slot >= TT_KD_LINE_INDEX) {
         b->overflow = 1;
         return TT_KD_LINE_EMPTY;
@@ -77,7 +78,7 @@ tt_status tt_kdtree_lines_build(tt_context *ctx, tt_kdtree *t)
     if (t->line_mem || !t->block_nodes) return TT_OK;
     if (t->view.empty) return TT_OK;
     /* Every line holds at least one interior node (or the one leaf of a
-     * tree that is a leaf). */
+     * tree that is a leaf), and the walk counts lines in 27 bits. */
     uint64_t cap = 1;
     for (uint32_t i = 0; i < t->node_slots; i++) {
         const uint32_t bits = t->nodes[i].bits;
@@ -85,7 +86,7 @@ tt_status tt_kdtree_lines_build(tt_context *ctx, tt_kdtree *t)
         cap++;
         i += tt_kd_is_aug(bits); /* its extension slot */
     }
-    if (cap >= TT_KD_LINE_MAX) return TT_OK;
+    if (cap >= TT_KD_LINE_INDEX || t->block_count >= TT_KD_LINE_INDEX) return TT_OK;
     void *mem = tt_alloc(ctx, (size_t)cap * sizeof(tt_kd_line) + 63);
     if (!mem) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "kdtree: out of memory for node lines");
     kd_lines_builder b = {t->block_nodes,

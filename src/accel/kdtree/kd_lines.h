@@ -17,11 +17,10 @@
  * descendant. An exit is
  *   TT_KD_LINE_EMPTY                an empty leaf (or nothing)
  *   bit 31 clear                    the line the subtree continues in
- *   bit 31 set, c = bits 24..30     a leaf: c > 0: its c triangles' lanes
- *                                   in the blocks start at lane bits
- *                                   0..23; c == 0: bits 0..23 index the
- *                                   leaf in the block copy's nodes (a big
- *                                   or far leaf)
+ *   bit 31 set, n = bits 27..30     a leaf: n > 0: its n blocks start at
+ *                                   block bits 0..26; n == 0: bits 0..26
+ *                                   index the leaf in the block copy's
+ *                                   nodes (a big or far leaf)
  * The child lines of a line are allocated together, in exit order. */
 #ifndef TT_ACCEL_KDTREE_KD_LINES_H
 #define TT_ACCEL_KDTREE_KD_LINES_H
@@ -32,9 +31,8 @@
 
 #define TT_KD_LINE_EMPTY 0xFFFFFFFFu
 #define TT_KD_LINE_LEAF 0x80000000u
-#define TT_KD_LINE_INDEX 0x00FFFFFFu /* bits 0..23                         */
-#define TT_KD_LINE_CMAX 127u         /* triangles an inline leaf can name  */
-#define TT_KD_LINE_MAX (1u << 27)    /* lines: a stack entry is line << 4 | h */
+#define TT_KD_LINE_INDEX 0x07FFFFFFu /* bits 0..26                         */
+#define TT_KD_LINE_NMAX 15u          /* blocks an inline leaf can name     */
 
 typedef struct tt_kd_line {
     float split[7];
@@ -44,7 +42,7 @@ typedef struct tt_kd_line {
 
 /* Builds t->lines (and points t->block_view.lines at them) from the block
  * copy, which must exist. A tree the encoding cannot hold (over 2^27
- * lines, or a big leaf beyond node slot 2^24) simply gets none: the kernels then walk the block
+ * blocks or node slots) simply gets none: the kernels then walk the block
  * copy's nodes. */
 tt_status tt_kdtree_lines_build(tt_context *ctx, tt_kdtree *t);
 void tt_kdtree_lines_free(tt_context *ctx, tt_kdtree *t);

@@ -2,10 +2,9 @@
  * compiled into the AVX-512 unit), for the fast traversal variants of
  * kd_trace_avx2.c / kd_trace_avx512.c. Include only from those units.
  *
- * A leaf's triangles are read from the blocks (kd_blocks.h: the engine's
- * copy, in reference order, a run of lanes a leaf, eight lanes a block,
- * structure of arrays, leaves sharing blocks), one aligned load a
- * coordinate row; lanes of other leaves are masked off. Before, they were read through refs[]
+ * A leaf's triangles are read from its blocks (kd_blocks.h: the engine's
+ * copy, in reference order, eight lanes a block, structure of arrays), one
+ * aligned load a coordinate row. Before, they were read through refs[]
  * from the scene's flat array (eight loads and an 8x8 transpose a group,
  * once nine gathers): every triangle a dependent load and a cache line of
  * its own; see the notes of the commit that made the blocks for the
@@ -28,11 +27,10 @@
 
 #include "geometry/tri_block.h"
 
-/* Lanes of one block (those set in `lanes`): returns the valid-hit mask
- * and leaves t, u, v per lane in the arrays. */
+/* Lanes of one block: returns the valid-hit mask and leaves t, u, v per
+ * lane in the arrays. */
 static inline unsigned kd_block8(const tt_kd_view *T, const tt_tri_block *b, const tt_wray *r,
-                                 float tmax, unsigned lanes, float *t_out, float *u_out,
-                                 float *v_out)
+                                 float tmax, float *t_out, float *u_out, float *v_out)
 {
     const int kx = r->kx, ky = r->ky, kz = r->kz;
     const __m256 ox = _mm256_set1_ps(r->org[kx]), oy = _mm256_set1_ps(r->org[ky]),
@@ -77,8 +75,8 @@ static inline unsigned kd_block8(const tt_kd_view *T, const tt_tri_block *b, con
     ok = _mm256_and_ps(ok, _mm256_cmp_ps(t, _mm256_set1_ps(r->tmin), _CMP_GE_OQ));
     ok = _mm256_and_ps(ok, _mm256_cmp_ps(t, _mm256_set1_ps(tmax), _CMP_LT_OQ));
     /* NaN lanes compare unequal to zero: never re-tested. */
-    const unsigned redo = (unsigned)_mm256_movemask_ps(anyzero) & lanes;
-    unsigned hits = (unsigned)_mm256_movemask_ps(ok) & ~redo & lanes;
+    const unsigned redo = (unsigned)_mm256_movemask_ps(anyzero);
+    unsigned hits = (unsigned)_mm256_movemask_ps(ok) & ~redo;
     if (hits) {
         _mm256_storeu_ps(t_out, t);
         _mm256_storeu_ps(u_out, _mm256_mul_ps(V, inv_det));
@@ -94,20 +92,14 @@ static inline unsigned kd_block8(const tt_kd_view *T, const tt_tri_block *b, con
     return hits;
 }
 
-/* The leaf whose triangles are lanes [first, first + count) of the blocks
- * (kd_blocks.h: leaves share blocks, so the lanes of other leaves in its
- * first and last block are masked off). */
-static inline int kd_leaf_lanes(const tt_kd_view *T, uint32_t first, uint32_t count,
-                                const tt_wray *r, int any, tt_kd_best *best)
+static inline int kd_leaf_block(const tt_kd_view *T, tt_kd_node leaf, const tt_wray *r, int any,
+                                tt_kd_best *best)
 {
-    const tt_tri_block *b = T->blocks + first / TT_TRI_BLOCK_W;
-    const uint32_t stop = first % TT_TRI_BLOCK_W + count; /* lanes from b's first */
-    const tt_tri_block *end = b + (stop + TT_TRI_BLOCK_W - 1) / TT_TRI_BLOCK_W;
-    unsigned lanes = (0xFFu << (first % TT_TRI_BLOCK_W)) & 0xFFu;
-    for (uint32_t base = 0; b != end; b++, base += TT_TRI_BLOCK_W) {
-        if (stop - base < TT_TRI_BLOCK_W) lanes &= 0xFFu >> (TT_TRI_BLOCK_W - (stop - base));
+    const tt_tri_block *b = T->blocks + leaf.u.first;
+    const tt_tri_block *end = b + tt_tri_block_count(tt_kd_leaf_count(leaf.bits));
+    for (; b != end; b++) {
         float t[8], u[8], v[8];
-        for (unsigned hits = kd_block8(T, b, r, best->t, lanes, t, u, v); hits; hits &= hits - 1u) {
+        for (unsigned hits = kd_block8(T, b, r, best->t, t, u, v); hits; hits &= hits - 1u) {
             const unsigned i = (unsigned)__builtin_ctz(hits);
             if (t[i] < best->t) {
                 best->t = t[i];
@@ -117,14 +109,6 @@ static inline int kd_leaf_lanes(const tt_kd_view *T, uint32_t first, uint32_t co
                 if (any) return 1;
             }
         }
-        lanes = 0xFFu;
     }
     return 0;
-}
-
-/* A leaf of the block copy's nodes: u.first its first lane. */
-static inline int kd_leaf_block(const tt_kd_view *T, tt_kd_node leaf, const tt_wray *r, int any,
-                                tt_kd_best *best)
-{
-    return kd_leaf_lanes(T, leaf.u.first, tt_kd_leaf_count(leaf.bits), r, any, best);
 }

@@ -13,9 +13,15 @@
 static inline int kd_lines_leaf(const tt_kd_view *T, uint32_t x, const tt_wray *r, int any,
                                 tt_kd_best *best)
 {
-    const uint32_t c = (x >> 24) & TT_KD_LINE_CMAX;
-    if (c) return kd_leaf_lanes(T, x & TT_KD_LINE_INDEX, c, r, any, best);
-    return kd_leaf_block(T, T->nodes[x & TT_KD_LINE_INDEX], r, any, best);
+    tt_kd_node leaf;
+    const uint32_t n = (x >> 27) & TT_KD_LINE_NMAX;
+    if (n) {
+        leaf.u.first = x & TT_KD_LINE_INDEX;
+        leaf.bits = (n * TT_TRI_BLOCK_W) << 3 | TT_KD_LEAF; /* n blocks' lanes */
+    } else {
+        leaf = T->nodes[x & TT_KD_LINE_INDEX];
+    }
+    return kd_leaf_block(T, leaf, r, any, best);
 }
 
 static inline int kd_lines_htr(const tt_kd_view *T, const tt_wray *r, int any, tt_kd_best *best)
