@@ -30,7 +30,9 @@ static uint32_t kd_lines_leaf(kd_lines_builder *b, uint32_t slot)
 }
 
 /* Fills line `at` with the three levels below node slot `root`, then the
- * lines of its interior exits, which it reserves side by side first. */
+ * lines of its interior exits, each followed by its own subtree's lines
+ * (depth first: 0-2% faster than a line's child lines side by side,
+ * in-process A/B). */
 static void kd_lines_fill(kd_lines_builder *b, uint32_t at, uint32_t root)
 {
     uint32_t pos[15]; /* node slot at each position, UINT32_MAX: none      */
@@ -58,10 +60,13 @@ static void kd_lines_fill(kd_lines_builder *b, uint32_t at, uint32_t root)
         child[x] = UINT32_MAX;
         if (i == UINT32_MAX) L->exit[x] = TT_KD_LINE_EMPTY;
         else if (tt_kd_is_leaf(b->nodes[i].bits)) L->exit[x] = kd_lines_leaf(b, i);
-        else L->exit[x] = child[x] = b->count++;
+        else child[x] = 0;
     }
     for (int x = 0; x < 8; x++)
-        if (child[x] != UINT32_MAX) kd_lines_fill(b, child[x], pos[7 + x]);
+        if (child[x] != UINT32_MAX) {
+            L->exit[x] = child[x] = b->count++;
+            kd_lines_fill(b, child[x], pos[7 + x]);
+        }
 }
 
 void tt_kdtree_lines_free(tt_context *ctx, tt_kdtree *t)

@@ -21,7 +21,7 @@
  *                                   block bits 0..26; n == 0: bits 0..26
  *                                   index the leaf in the block copy's
  *                                   nodes (a big or far leaf)
- * The child lines of a line are allocated together, in exit order. */
+ * Lines are in depth-first order of the treelets. */
 #ifndef TT_ACCEL_KDTREE_KD_LINES_H
 #define TT_ACCEL_KDTREE_KD_LINES_H
 
