@@ -35,12 +35,12 @@ static uint32_t kd_lines_leaf(kd_lines_builder *b, uint32_t slot)
  * in-process A/B). */
 static void kd_lines_fill(kd_lines_builder *b, uint32_t at, uint32_t root)
 {
-    uint32_t pos[31]; /* node slot at each position, UINT32_MAX: none      */
+    uint32_t pos[15]; /* node slot at each position, UINT32_MAX: none      */
     tt_kd_line *L = &b->lines[at];
     memset(L, 0, sizeof *L);
-    for (int h = 0; h < 31; h++) pos[h] = UINT32_MAX;
+    for (int h = 0; h < 15; h++) pos[h] = UINT32_MAX;
     pos[0] = root;
-    for (uint32_t h = 0; h < 15; h++) {
+    for (uint32_t h = 0; h < 7; h++) {
         const uint32_t i = pos[h];
         if (i != UINT32_MAX && !tt_kd_is_leaf(b->nodes[i].bits)) {
             const tt_kd_node n = b->nodes[i];
@@ -54,18 +54,18 @@ static void kd_lines_fill(kd_lines_builder *b, uint32_t at, uint32_t root)
             pos[2 * h + 1] = i;
         }
     }
-    uint32_t child[16];
-    for (int x = 0; x < 16; x++) {
-        const uint32_t i = pos[15 + x];
+    uint32_t child[8];
+    for (int x = 0; x < 8; x++) {
+        const uint32_t i = pos[7 + x];
         child[x] = UINT32_MAX;
         if (i == UINT32_MAX) L->exit[x] = TT_KD_LINE_EMPTY;
         else if (tt_kd_is_leaf(b->nodes[i].bits)) L->exit[x] = kd_lines_leaf(b, i);
         else child[x] = 0;
     }
-    for (int x = 0; x < 16; x++)
+    for (int x = 0; x < 8; x++)
         if (child[x] != UINT32_MAX) {
             L->exit[x] = child[x] = b->count++;
-            kd_lines_fill(b, child[x], pos[15 + x]);
+            kd_lines_fill(b, child[x], pos[7 + x]);
         }
 }
 
@@ -91,11 +91,11 @@ tt_status tt_kdtree_lines_build(tt_context *ctx, tt_kdtree *t)
         cap++;
         i += tt_kd_is_aug(bits); /* its extension slot */
     }
-    if (cap >= (TT_KD_LINE_INDEX >> 1) || t->block_count >= TT_KD_LINE_INDEX) return TT_OK;
-    void *mem = tt_alloc(ctx, (size_t)cap * sizeof(tt_kd_line) + 127);
+    if (cap >= TT_KD_LINE_INDEX || t->block_count >= TT_KD_LINE_INDEX) return TT_OK;
+    void *mem = tt_alloc(ctx, (size_t)cap * sizeof(tt_kd_line) + 63);
     if (!mem) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "kdtree: out of memory for node lines");
     kd_lines_builder b = {t->block_nodes,
-                          (tt_kd_line *)(((uintptr_t)mem + 127) & ~(uintptr_t)127), 1u,
+                          (tt_kd_line *)(((uintptr_t)mem + 63) & ~(uintptr_t)63), 1u,
                           (uint32_t)cap, 0};
     kd_lines_fill(&b, 0, 0);
     if (b.overflow) {

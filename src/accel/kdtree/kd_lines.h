@@ -35,10 +35,10 @@
 #define TT_KD_LINE_NMAX 15u          /* blocks an inline leaf can name     */
 
 typedef struct tt_kd_line {
-    float split[15];
+    float split[7];
     uint32_t axes;
-    uint32_t exit[16];
-} tt_kd_line; /* 128 bytes; arrays of lines are allocated 128-byte aligned */
+    uint32_t exit[8];
+} tt_kd_line; /* 64 bytes; arrays of lines are allocated 64-byte aligned */
 
 /* Builds t->lines (and points t->block_view.lines at them) from the block
  * copy, which must exist. A tree the encoding cannot hold (over 2^27

@@ -8,7 +8,7 @@
  * leaves are tested in the same order and the answers are bit for bit
  * those of the depth-first nodes; only where the nodes lie differs. For
  * rays that move along every axis; the others take tt_kd_htr_general. A
- * stack entry names a position: line << 5 | h. */
+ * stack entry names a position: line << 4 | h. */
 
 static inline int kd_lines_leaf(const tt_kd_view *T, uint32_t x, const tt_wray *r, int any,
                                 tt_kd_best *best)
@@ -51,7 +51,7 @@ static inline int kd_lines_htr(const tt_kd_view *T, const tt_wray *r, int any, t
         for (;;) {
             const tt_kd_line *L = T->lines + line;
             const uint32_t axes = L->axes;
-            while (h < 15u) {
+            while (h < 7u) {
                 const uint32_t k = (axes >> (2u * h)) & 3u;
                 if (k == 3u) {
                     h = 2u * h + 1u;
@@ -66,7 +66,7 @@ static inline int kd_lines_htr(const tt_kd_view *T, const tt_wray *r, int any, t
                     } else if (lo > tb) {
                         h = right;
                     } else {
-                        stack[sp].node = line << 5 | left;
+                        stack[sp].node = line << 4 | left;
                         stack[sp].ta = tt_kd_max(ta, lo);
                         stack[sp].tb = tb;
                         sp++;
@@ -79,7 +79,7 @@ static inline int kd_lines_htr(const tt_kd_view *T, const tt_wray *r, int any, t
                     } else if (lo > tb) {
                         h = left;
                     } else {
-                        stack[sp].node = line << 5 | right;
+                        stack[sp].node = line << 4 | right;
                         stack[sp].ta = tt_kd_max(ta, lo);
                         stack[sp].tb = tb;
                         sp++;
@@ -88,7 +88,7 @@ static inline int kd_lines_htr(const tt_kd_view *T, const tt_wray *r, int any, t
                     }
                 }
             }
-            x = L->exit[h - 15u];
+            x = L->exit[h - 7u];
             if (x & TT_KD_LINE_LEAF) break;
             line = x;
             h = 0;
@@ -96,8 +96,8 @@ static inline int kd_lines_htr(const tt_kd_view *T, const tt_wray *r, int any, t
         if (x != TT_KD_LINE_EMPTY && kd_lines_leaf(T, x, r, any, best)) return 1;
         uint32_t pos;
         if (!tt_kd_htr_pop(stack, &sp, best->t, &pos, &ta, &tb)) return 0;
-        line = pos >> 5;
-        h = pos & 31u;
+        line = pos >> 4;
+        h = pos & 15u;
     }
 }
 
