@@ -1,6 +1,8 @@
 /* The engine's leaf blocks (see kd_blocks.h). */
 #include "accel/kdtree/kd_blocks.h"
 
+#include "accel/kdtree/kd_lines.h"
+
 #include <stdint.h>
 #include <string.h>
 
@@ -18,6 +20,7 @@
 
 void tt_kdtree_blocks_free(tt_context *ctx, tt_kdtree *t)
 {
+    tt_kdtree_lines_free(ctx, t);
     tt_free(ctx, t->block_nodes);
     tt_free(ctx, t->block_mem);
     t->block_nodes = NULL;
@@ -32,7 +35,8 @@ size_t tt_kdtree_blocks_memory(const tt_kdtree *t)
 {
     if (!t->block_nodes) return 0;
     return (size_t)t->node_slots * sizeof(tt_kd_node) +
-           (size_t)t->block_count * sizeof(tt_tri_block);
+           (size_t)t->block_count * sizeof(tt_tri_block) +
+           (size_t)t->line_count * sizeof(tt_kd_line);
 }
 
 tt_status tt_kdtree_blocks_build(tt_context *ctx, tt_kdtree *t, const float *tri)
@@ -74,7 +78,7 @@ tt_status tt_kdtree_blocks_build(tt_context *ctx, tt_kdtree *t, const float *tri
     t->block_view = t->view;
     t->block_view.nodes = nodes;
     t->block_view.blocks = blocks;
-    return TT_OK;
+    return tt_kdtree_lines_build(ctx, t);
 }
 
 tt_status tt_kdtree_use_isa(tt_context *ctx, tt_kdtree *t, tt_isa isa, const float *tri,

@@ -66,6 +66,7 @@ typedef struct tt_kd_aug {
 } tt_kd_aug;
 
 struct tt_tri_block; /* geometry/tri_block.h */
+struct tt_kd_line;   /* kd_lines.h            */
 
 /* Everything a traversal reads, as plain pointers (device pointers on the
  * GPU). tri is the scene's flat triangle array, 9 floats a triangle.
@@ -73,7 +74,10 @@ struct tt_tri_block; /* geometry/tri_block.h */
  * blocks: NULL, except in the view the CPU's AVX2 / AVX-512 single-ray
  * kernels walk (kd_blocks.h): there `nodes` is a copy of the tree's nodes
  * whose leaves' u.first index blocks[] (each leaf's triangles, copied in
- * reference order) instead of refs[]. */
+ * reference order) instead of refs[].
+ *
+ * lines: NULL, except in that view when its nodes are also regrouped into
+ * cache lines (kd_lines.h), which those kernels' HTR walks instead. */
 typedef struct tt_kd_view {
     const tt_kd_node *nodes;
     const uint32_t *refs;
@@ -82,6 +86,7 @@ typedef struct tt_kd_view {
     uint32_t aug_count;
     int empty; /* no triangles: every ray misses                             */
     const struct tt_tri_block *blocks;
+    const struct tt_kd_line *lines;
 } tt_kd_view;
 
 TT_HD int tt_kd_is_leaf(uint32_t bits) { return (bits & 3u) == TT_KD_LEAF; }

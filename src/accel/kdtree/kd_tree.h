@@ -47,6 +47,10 @@ typedef struct tt_kdtree {
     tt_kd_node *block_nodes;
     void *block_mem;      /* blocks' allocation (64-byte aligned inside) */
     uint32_t block_count; /* tt_tri_block's in fast_view.blocks          */
+    /* The block copy's nodes regrouped into cache lines for HTR
+     * (kd_lines.h; block_view.lines points inside line_mem), or none. */
+    void *line_mem;
+    uint32_t line_count;
 } tt_kdtree;
 
 /* Builds the tree for accel->scene with accel->options.kdtree (validated

@@ -1,7 +1,9 @@
 /* The kd-tree's fast traversals for AVX-512 (F, VL, BW, DQ; no FMA contraction: see
  * CMakeLists.txt): the kd_trace.h template with the eight-lane block
- * leaf test of kd_leaf_block.h. Only the fast variant: the counting one is
- * kd_trace_cpu.c's for every ISA. */
+ * leaf test of kd_leaf_block.h;
+ * HTR walks the node lines of kd_lines.h (kd_trace_lines.h) where the view
+ * has them. Only the fast variant: the counting one is kd_trace_cpu.c's
+ * for every ISA. */
 #include "accel/kdtree/trace/kd_trace_cpu.h"
 
 #if defined(TT_HAVE_X86_KERNELS)
@@ -14,6 +16,8 @@
 #define TT_STATS 0
 #include "accel/stats_variant.h"
 #include "accel/kdtree/trace/kd_trace.h"
+#include "accel/kdtree/kd_lines.h"
+#include "accel/kdtree/trace/kd_trace_lines.h"
 
 void tt_kd_avx512_intersect(const tt_kd_view *T, int traversal, const tt_wray *r, uint32_t hint,
                           tt_hit *hit, uint32_t *end)
@@ -25,6 +29,7 @@ void tt_kd_avx512_intersect(const tt_kd_view *T, int traversal, const tt_wray *r
         tt_kd_cpu_intersect(T, traversal, r, hint, hit, end);
         return;
     }
+    if (kd_lines_intersect(T, traversal, r, hit, end)) return;
     tt_kd_intersect(T, traversal, r, hint, hit, end, NULL);
 }
 
@@ -32,6 +37,8 @@ int tt_kd_avx512_occluded(const tt_kd_view *T, int traversal, const tt_wray *r, 
                         uint32_t caster, uint32_t *end)
 {
     if (!T->blocks) return tt_kd_cpu_occluded(T, traversal, r, hint, caster, end);
+    int occ;
+    if (kd_lines_occluded(T, traversal, r, caster, end, &occ)) return occ;
     return tt_kd_occluded(T, traversal, r, hint, caster, end, NULL);
 }
 #endif
