@@ -63,6 +63,18 @@ typedef struct rtc_lanes {
 #endif
 } rtc_lanes;
 
+#if defined(__FMA__)
+#define RTC_FAR (1.0f + 1.0f / 2097152.0f)
+/* Whether axis k of the ray culls in the fused test: its scaled rcp and
+ * offsets are finite (an rcp of +-inf, a zero direction component, keeps
+ * the former handling: exact +-inf or NaN, see above). */
+static inline int rtc_axis_fused(const tt_wray *r, int k)
+{
+    return fabsf(r->rcp[k]) * RTC_FAR < TT_INF &&
+           fabsf(r->org[k] * r->rcp[k]) * (1.0f + 1.0f / 524288.0f) < TT_INF;
+}
+#endif
+
 static inline void rtc_lanes_init(rtc_lanes *s, const tt_wray *r)
 {
 #if defined(__AVX512F__)
@@ -80,31 +92,39 @@ static inline void rtc_lanes_init(rtc_lanes *s, const tt_wray *r)
     s->iz = RTC_SET1(r->rcp[2]);
     s->tmin = RTC_SET1(r->tmin);
 #if defined(__FMA__)
-    const float near = 1.0f - 1.0f / 65536.0f, far = 1.0f + 1.0f / 2097152.0f;
+    const float near = 1.0f - 1.0f / 65536.0f;
     for (int k = 0; k < 3; k++) {
         const float x = r->org[k] * r->rcp[k];
         const float pad = fabsf(x) * (1.0f / 2097152.0f);
+        if (fabsf(r->rcp[k]) < TT_INF && !rtc_axis_fused(r, k)) {
+            /* a finite rcp or offset whose scaled form would overflow:
+             * NaN, so the accumulation ignores the axis (no culling) */
+            s->rn[k] = s->rf[k] = s->cn[k] = s->cf[k] = RTC_SET1(NAN);
+            continue;
+        }
         s->rn[k] = RTC_SET1(r->rcp[k] * near);
-        s->rf[k] = RTC_SET1(r->rcp[k] * far);
+        s->rf[k] = RTC_SET1(r->rcp[k] * RTC_FAR);
         s->cn[k] = RTC_SET1(-(x * near) - pad);
-        s->cf[k] = RTC_SET1(-(x * far) + pad);
+        s->cf[k] = RTC_SET1(-(x * RTC_FAR) + pad);
     }
     s->tmin_n = RTC_SET1(r->tmin * near);
 #endif
 #undef RTC_SET1
 }
 
-/* A ray whose three direction components are all below about 3e-39
- * (denormal or zero: rcp is +-inf on every axis) leaves the FMA units
- * nothing to cull with: every axis gives NaN, which the accumulation
- * ignores, so even an unused child (all bounds +inf) would pass and its
- * invalid reference be followed. Such rays (rare, but the ray contract
- * accepts them) are traced by the scalar kernel instead, whose two-step
- * slab test rejects unused children and gives the same answers. */
+/* A ray none of whose axes culls in the fused test (rtc_axis_fused: all
+ * three direction components below about 3e-39, denormal or zero, so rcp
+ * is +-inf or too large to scale; or an origin so far out that org * rcp
+ * overflows) leaves the FMA units nothing to cull with: every axis gives
+ * NaN, which the accumulation ignores, so even an unused child (all bounds
+ * +inf) would pass and its invalid reference be followed. Such rays (rare,
+ * but the ray contract accepts them) are traced by the scalar kernel
+ * instead, whose two-step slab test rejects unused children and gives the
+ * same answers. One axis that culls suffices (an unused child's +inf
+ * bounds then give +inf near or -inf far on it). */
 #if defined(__FMA__)
 #define RTC_BOX_NEEDS_SCALAR(r)                                                                   \
-    (!(fabsf((r)->rcp[0]) < TT_INF) && !(fabsf((r)->rcp[1]) < TT_INF) &&                          \
-     !(fabsf((r)->rcp[2]) < TT_INF))
+    (!rtc_axis_fused((r), 0) && !rtc_axis_fused((r), 1) && !rtc_axis_fused((r), 2))
 #endif
 
 #if defined(__AVX512F__)
