@@ -177,15 +177,18 @@ static inline uint32_t rtc_box4(const rtc_lanes *s, const tt_rt_planes *p, const
 static inline uint32_t rtc_box8(const rtc_lanes *s, const tt_rt_planes *p, const float *g,
                                 float tmax, float *out)
 {
-    const __m256 tnx = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->n[0]), RTC_LO256(s->rn[0]), RTC_LO256(s->cn[0]));
-    const __m256 tny = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->n[1]), RTC_LO256(s->rn[1]), RTC_LO256(s->cn[1]));
-    const __m256 tnz = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->n[2]), RTC_LO256(s->rn[2]), RTC_LO256(s->cn[2]));
-    const __m256 tfx = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->f[0]), RTC_LO256(s->rf[0]), RTC_LO256(s->cf[0]));
-    const __m256 tfy = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->f[1]), RTC_LO256(s->rf[1]), RTC_LO256(s->cf[1]));
-    const __m256 tfz = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->f[2]), RTC_LO256(s->rf[2]), RTC_LO256(s->cf[2]));
+#define RTC_FMA8(row, r, c) _mm256_fmadd_ps(_mm256_loadu_ps(g + (row)), RTC_LO256(r), RTC_LO256(c))
+    const __m256 tnx = RTC_FMA8(p->n[0], s->rn[0], s->cn[0]);
+    const __m256 tny = RTC_FMA8(p->n[1], s->rn[1], s->cn[1]);
+    const __m256 tnz = RTC_FMA8(p->n[2], s->rn[2], s->cn[2]);
+    const __m256 tfx = RTC_FMA8(p->f[0], s->rf[0], s->cf[0]);
+    const __m256 tfy = RTC_FMA8(p->f[1], s->rf[1], s->cf[1]);
+    const __m256 tfz = RTC_FMA8(p->f[2], s->rf[2], s->cf[2]);
+#undef RTC_FMA8
     const __m256 entry =
         _mm256_max_ps(tnz, _mm256_max_ps(tny, _mm256_max_ps(tnx, RTC_LO256(s->tmin_n))));
-    const __m256 tf = _mm256_min_ps(tfz, _mm256_min_ps(tfy, _mm256_min_ps(tfx, _mm256_set1_ps(rtc_below(tmax)))));
+    const __m256 below = _mm256_set1_ps(rtc_below(tmax));
+    const __m256 tf = _mm256_min_ps(tfz, _mm256_min_ps(tfy, _mm256_min_ps(tfx, below)));
     const __m256 hit = _mm256_cmp_ps(entry, tf, _CMP_LE_OQ);
     _mm256_storeu_ps(out, entry);
     return (uint32_t)_mm256_movemask_ps(hit);
