@@ -204,6 +204,15 @@ static inline void hard_rays_targeted(hard_rays *s, const tt_scene *scene, size_
         }
         if (!hard_is_zero(d)) hard_rays_add(s, "from far away", o, d, 0.0f, inf);
 
+        /* from 1e37 away with a short direction: org * rcp overflows on
+         * every axis (the FMA box tests' offsets; such a ray once followed
+         * an unused child's reference in the R-tree's AVX2 kernel) */
+        for (int k = 0; k < 3; k++) {
+            o[k] = c[k] + fd[k] / fl * 1e37f;
+            d[k] = -fd[k] / fl * 1e-2f;
+        }
+        if (!hard_is_zero(d)) hard_rays_add(s, "from 1e37 away, direction of length 0.01", o, d, 0.0f, inf);
+
         /* The families in general position (what an external reference is
          * held to exactly). Their own random sequence, so the families above
          * keep their rays. Random points are tested against the vertices'

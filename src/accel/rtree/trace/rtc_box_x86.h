@@ -5,16 +5,30 @@
  * __AVX512F__ says the unit may use them).
  *
  * Units with FMA (AVX2, AVX-512) compute a slab distance in one fused
- * operation, bound * rcp + c, with c = -(org * rcp) moved outwards by
- * 2^-22 |org * rcp| per ray (near planes down, far planes up). That
- * padding covers the two roundings of c, so the fused near distance is at
- * most the exact (bound - org) * rcp plus one rounding of itself, and the
- * far one at least it minus one: no worse than the two-step form, which
- * rounds twice, and both are then widened relatively as below. A zero
- * direction component (rcp +-inf) gives either the exact +-inf or NaN,
- * which the accumulation ignores (no culling on that axis): conservative.
- * These units may thus visit a box or two more than the others, never
- * fewer around a hit; hits are the triangle test's and stay bit-identical.
+ * operation, bound * r' + c', with the widenings folded into the ray's
+ * constants so that nothing but the fused operation and the min/max
+ * accumulation stands between a node's load and its hit mask (a ray's
+ * walk is a chain of dependent node tests: each multiply on it is paid at
+ * every node). Near planes use r' = rcp (1 - 2^-16) and c' = -x (1 -
+ * 2^-16) - pad, far planes r' = rcp (1 + 2^-21) and c' = -x (1 + 2^-21) +
+ * pad, with x = org * rcp and pad = 2^-21 |x| (both rounded). The fused
+ * result's errors are the roundings of r' (2^-24 |bound r|, at most
+ * 2^-24 (|x| + |d|) for the distance d), of x, the scaling and c' (under
+ * 3 2^-24 |x|) and its own (2^-24 |d|): the pad covers the |x| parts
+ * (cancellation near the origin), the relative factors the |d| parts with
+ * room for the rcp's own rounding, so a near distance is at most d (1 -
+ * 2^-16) and a far one at least d (1 + 2^-22) for d >= 0, as the former
+ * multiplications after the accumulation gave (a negative far distance is
+ * a miss either way, a negative near one stays below tmin). The entry is
+ * the near accumulation itself, started at tmin (1 - 2^-16); the far one
+ * starts at the float below tmax, so one compare, entry <= far, also says
+ * entry < tmax (unused children: +inf > FLT_MAX). A zero direction
+ * component (rcp +-inf) gives either the exact +-inf or NaN, which the
+ * accumulation ignores (no culling on that axis): conservative. These
+ * units may thus visit a box or two more than the others, never fewer
+ * around a hit; hits are the triangle test's and stay bit-identical.
+ * Their lanes hold the entry whether hit or not (the walks read only hit
+ * lanes: a blend to +inf per half cost 0-1.6% on every view).
  *
  * Without FMA (SSE 4.2) each lane computes exactly what tt_rt_box_test_at
  * (rtree_packed.h) computes for one box, with the same operations in the
@@ -26,13 +40,14 @@
  * are single multiplications, tf (1 + 2^-22) and tn (1 - 2^-16): the same
  * real value rounded once, so the same float (tn >= tmin >= 0 always; a
  * negative tf is a miss either way). A lane's result is its entry distance
- * on a hit, +inf on a miss, and the returned mask has bit i set for a hit
+ * on a hit, +inf on a miss (FMA units: see above), and the returned mask has bit i set for a hit
  * of child i. */
 #ifndef TT_ACCEL_RTREE_RTC_BOX_X86_H
 #define TT_ACCEL_RTREE_RTC_BOX_X86_H
 
 #include <immintrin.h>
 #include <math.h>
+#include <string.h>
 
 #include "accel/rtree/layout/rtc_layout.h"
 
@@ -40,13 +55,25 @@
  * unit has; narrower kernels take its low part). */
 typedef struct rtc_lanes {
 #if defined(__AVX512F__)
-    __m512 ox, oy, oz, ix, iy, iz, tmin, cn[3], cf[3];
+    __m512 ox, oy, oz, ix, iy, iz, tmin, rn[3], rf[3], cn[3], cf[3], tmin_n;
 #elif defined(__AVX2__)
-    __m256 ox, oy, oz, ix, iy, iz, tmin, cn[3], cf[3];
+    __m256 ox, oy, oz, ix, iy, iz, tmin, rn[3], rf[3], cn[3], cf[3], tmin_n;
 #else
     __m128 ox, oy, oz, ix, iy, iz, tmin;
 #endif
 } rtc_lanes;
+
+#if defined(__FMA__)
+#define RTC_FAR (1.0f + 1.0f / 2097152.0f)
+/* Whether axis k of the ray culls in the fused test: its scaled rcp and
+ * offsets are finite (an rcp of +-inf, a zero direction component, keeps
+ * the former handling: exact +-inf or NaN, see above). */
+static inline int rtc_axis_fused(const tt_wray *r, int k)
+{
+    return fabsf(r->rcp[k]) * RTC_FAR < TT_INF &&
+           fabsf(r->org[k] * r->rcp[k]) * (1.0f + 1.0f / 524288.0f) < TT_INF;
+}
+#endif
 
 static inline void rtc_lanes_init(rtc_lanes *s, const tt_wray *r)
 {
@@ -65,27 +92,39 @@ static inline void rtc_lanes_init(rtc_lanes *s, const tt_wray *r)
     s->iz = RTC_SET1(r->rcp[2]);
     s->tmin = RTC_SET1(r->tmin);
 #if defined(__FMA__)
+    const float near = 1.0f - 1.0f / 65536.0f;
     for (int k = 0; k < 3; k++) {
         const float x = r->org[k] * r->rcp[k];
-        const float pad = fabsf(x) * (1.0f / 4194304.0f);
-        s->cn[k] = RTC_SET1(-x - pad);
-        s->cf[k] = RTC_SET1(-x + pad);
+        const float pad = fabsf(x) * (1.0f / 2097152.0f);
+        if (fabsf(r->rcp[k]) < TT_INF && !rtc_axis_fused(r, k)) {
+            /* a finite rcp or offset whose scaled form would overflow:
+             * NaN, so the accumulation ignores the axis (no culling) */
+            s->rn[k] = s->rf[k] = s->cn[k] = s->cf[k] = RTC_SET1(NAN);
+            continue;
+        }
+        s->rn[k] = RTC_SET1(r->rcp[k] * near);
+        s->rf[k] = RTC_SET1(r->rcp[k] * RTC_FAR);
+        s->cn[k] = RTC_SET1(-(x * near) - pad);
+        s->cf[k] = RTC_SET1(-(x * RTC_FAR) + pad);
     }
+    s->tmin_n = RTC_SET1(r->tmin * near);
 #endif
 #undef RTC_SET1
 }
 
-/* A ray whose three direction components are all below about 3e-39
- * (denormal or zero: rcp is +-inf on every axis) leaves the FMA units
- * nothing to cull with: every axis gives NaN, which the accumulation
- * ignores, so even an unused child (all bounds +inf) would pass and its
- * invalid reference be followed. Such rays (rare, but the ray contract
- * accepts them) are traced by the scalar kernel instead, whose two-step
- * slab test rejects unused children and gives the same answers. */
+/* A ray none of whose axes culls in the fused test (rtc_axis_fused: all
+ * three direction components below about 3e-39, denormal or zero, so rcp
+ * is +-inf or too large to scale; or an origin so far out that org * rcp
+ * overflows) leaves the FMA units nothing to cull with: every axis gives
+ * NaN, which the accumulation ignores, so even an unused child (all bounds
+ * +inf) would pass and its invalid reference be followed. Such rays (rare,
+ * but the ray contract accepts them) are traced by the scalar kernel
+ * instead, whose two-step slab test rejects unused children and gives the
+ * same answers. One axis that culls suffices (an unused child's +inf
+ * bounds then give +inf near or -inf far on it). */
 #if defined(__FMA__)
 #define RTC_BOX_NEEDS_SCALAR(r)                                                                   \
-    (!(fabsf((r)->rcp[0]) < TT_INF) && !(fabsf((r)->rcp[1]) < TT_INF) &&                          \
-     !(fabsf((r)->rcp[2]) < TT_INF))
+    (!rtc_axis_fused((r), 0) && !rtc_axis_fused((r), 1) && !rtc_axis_fused((r), 2))
 #endif
 
 #if defined(__AVX512F__)
@@ -96,6 +135,19 @@ static inline void rtc_lanes_init(rtc_lanes *s, const tt_wray *r)
 #define RTC_LO256(x) (x)
 #else
 #define RTC_LO128(x) (x)
+#endif
+
+#if defined(__FMA__)
+/* The float just below tmax (> 0 or +inf: FLT_MAX), the far accumulation's
+ * start: entry <= it says entry < tmax. */
+static inline float rtc_below(float tmax)
+{
+    uint32_t u;
+    memcpy(&u, &tmax, sizeof u);
+    u--;
+    memcpy(&tmax, &u, sizeof u);
+    return tmax;
+}
 #endif
 
 /* Four children from g (a node's boxes plus the first child's position). */
@@ -125,24 +177,20 @@ static inline uint32_t rtc_box4(const rtc_lanes *s, const tt_rt_planes *p, const
 static inline uint32_t rtc_box8(const rtc_lanes *s, const tt_rt_planes *p, const float *g,
                                 float tmax, float *out)
 {
-    const __m256 ox = RTC_LO256(s->ox), oy = RTC_LO256(s->oy), oz = RTC_LO256(s->oz);
-    const __m256 ix = RTC_LO256(s->ix), iy = RTC_LO256(s->iy), iz = RTC_LO256(s->iz);
-    (void)ox, (void)oy, (void)oz;
-    const __m256 tnx = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->n[0]), ix, RTC_LO256(s->cn[0]));
-    const __m256 tny = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->n[1]), iy, RTC_LO256(s->cn[1]));
-    const __m256 tnz = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->n[2]), iz, RTC_LO256(s->cn[2]));
-    const __m256 tfx = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->f[0]), ix, RTC_LO256(s->cf[0]));
-    const __m256 tfy = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->f[1]), iy, RTC_LO256(s->cf[1]));
-    const __m256 tfz = _mm256_fmadd_ps(_mm256_loadu_ps(g + p->f[2]), iz, RTC_LO256(s->cf[2]));
-    const __m256 inf = _mm256_set1_ps(TT_INF);
-    const __m256 tn =
-        _mm256_max_ps(tnz, _mm256_max_ps(tny, _mm256_max_ps(tnx, RTC_LO256(s->tmin))));
-    const __m256 tf0 = _mm256_min_ps(tfz, _mm256_min_ps(tfy, _mm256_min_ps(tfx, inf)));
-    const __m256 tf = _mm256_mul_ps(tf0, _mm256_set1_ps(1.0f + 1.0f / 4194304.0f));
-    const __m256 entry = _mm256_mul_ps(tn, _mm256_set1_ps(1.0f - 1.0f / 65536.0f));
-    const __m256 hit = _mm256_and_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ),
-                                     _mm256_cmp_ps(entry, _mm256_set1_ps(tmax), _CMP_LT_OQ));
-    _mm256_storeu_ps(out, _mm256_blendv_ps(inf, entry, hit));
+#define RTC_FMA8(row, r, c) _mm256_fmadd_ps(_mm256_loadu_ps(g + (row)), RTC_LO256(r), RTC_LO256(c))
+    const __m256 tnx = RTC_FMA8(p->n[0], s->rn[0], s->cn[0]);
+    const __m256 tny = RTC_FMA8(p->n[1], s->rn[1], s->cn[1]);
+    const __m256 tnz = RTC_FMA8(p->n[2], s->rn[2], s->cn[2]);
+    const __m256 tfx = RTC_FMA8(p->f[0], s->rf[0], s->cf[0]);
+    const __m256 tfy = RTC_FMA8(p->f[1], s->rf[1], s->cf[1]);
+    const __m256 tfz = RTC_FMA8(p->f[2], s->rf[2], s->cf[2]);
+#undef RTC_FMA8
+    const __m256 entry =
+        _mm256_max_ps(tnz, _mm256_max_ps(tny, _mm256_max_ps(tnx, RTC_LO256(s->tmin_n))));
+    const __m256 below = _mm256_set1_ps(rtc_below(tmax));
+    const __m256 tf = _mm256_min_ps(tfz, _mm256_min_ps(tfy, _mm256_min_ps(tfx, below)));
+    const __m256 hit = _mm256_cmp_ps(entry, tf, _CMP_LE_OQ);
+    _mm256_storeu_ps(out, entry);
     return (uint32_t)_mm256_movemask_ps(hit);
 }
 #endif
@@ -152,20 +200,17 @@ static inline uint32_t rtc_box8(const rtc_lanes *s, const tt_rt_planes *p, const
 static inline uint32_t rtc_box16(const rtc_lanes *s, const tt_rt_planes *p, const float *g,
                                  float tmax, float *out)
 {
-    const __m512 tnx = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->n[0]), s->ix, s->cn[0]);
-    const __m512 tny = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->n[1]), s->iy, s->cn[1]);
-    const __m512 tnz = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->n[2]), s->iz, s->cn[2]);
-    const __m512 tfx = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->f[0]), s->ix, s->cf[0]);
-    const __m512 tfy = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->f[1]), s->iy, s->cf[1]);
-    const __m512 tfz = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->f[2]), s->iz, s->cf[2]);
-    const __m512 inf = _mm512_set1_ps(TT_INF);
-    const __m512 tn = _mm512_max_ps(tnz, _mm512_max_ps(tny, _mm512_max_ps(tnx, s->tmin)));
-    const __m512 tf0 = _mm512_min_ps(tfz, _mm512_min_ps(tfy, _mm512_min_ps(tfx, inf)));
-    const __m512 tf = _mm512_mul_ps(tf0, _mm512_set1_ps(1.0f + 1.0f / 4194304.0f));
-    const __m512 entry = _mm512_mul_ps(tn, _mm512_set1_ps(1.0f - 1.0f / 65536.0f));
-    const __mmask16 hit = _mm512_cmp_ps_mask(tn, tf, _CMP_LE_OQ) &
-                          _mm512_cmp_ps_mask(entry, _mm512_set1_ps(tmax), _CMP_LT_OQ);
-    _mm512_storeu_ps(out, _mm512_mask_blend_ps(hit, inf, entry));
+    const __m512 tnx = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->n[0]), s->rn[0], s->cn[0]);
+    const __m512 tny = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->n[1]), s->rn[1], s->cn[1]);
+    const __m512 tnz = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->n[2]), s->rn[2], s->cn[2]);
+    const __m512 tfx = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->f[0]), s->rf[0], s->cf[0]);
+    const __m512 tfy = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->f[1]), s->rf[1], s->cf[1]);
+    const __m512 tfz = _mm512_fmadd_ps(_mm512_loadu_ps(g + p->f[2]), s->rf[2], s->cf[2]);
+    const __m512 entry = _mm512_max_ps(tnz, _mm512_max_ps(tny, _mm512_max_ps(tnx, s->tmin_n)));
+    const __m512 tf =
+        _mm512_min_ps(tfz, _mm512_min_ps(tfy, _mm512_min_ps(tfx, _mm512_set1_ps(rtc_below(tmax)))));
+    const __mmask16 hit = _mm512_cmp_ps_mask(entry, tf, _CMP_LE_OQ);
+    _mm512_storeu_ps(out, entry);
     return (uint32_t)hit;
 }
 #endif

@@ -5,7 +5,8 @@
  *   RTC_FN(name)       the name with the unit's ISA suffix;
  *   rtc_lanes, rtc_lanes_init(lanes, ray), rtc_group_test(lanes, planes,
  *                      node, S, tmax, out) -> hit mask: all S child boxes
- *                      of a node in one step, out[i] the entry or +inf;
+ *                      of a node in one step, out[i] the entry of a hit
+ *                      child i (other lanes: anything);
  *   RTC_BLOCKS_INTERSECT(ray, blocks, n, hit), RTC_BLOCKS_OCCLUDED(ray,
  *                      blocks, n, tmax): the unit's triangle-block kernels.
  *
