@@ -11,6 +11,7 @@
  * never has more than M <= 16 entries to choose from. */
 #include "accel/rtree/build/rtree_build.h"
 
+#include <math.h>
 #include <string.h>
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -372,10 +373,163 @@ static tt_status overflow(rt_builder *b, uint32_t n)
     return split_node(b, n);
 }
 
+/* rt_builder.sah_leaves: the leaf of level-1 node n whose cost grows
+ * least by taking box e, or -1 where a new leaf of e alone costs less;
+ * the cost into *cost. */
+static int choose_leaf_sah(const rt_builder *b, uint32_t n, const float e[6], float *cost)
+{
+    const float *s = rt_node_box(b, n);
+    const uint32_t *ch = rt_node_child(b, n);
+    const int cap = b->cap, cnt = b->hdr[n].count;
+    int best_i = -1;
+    /* a new leaf in a full node splits it: one more node to visit, about
+     * as big as n (the same for a full leaf, whose split adds a leaf) */
+    float split = 0.0f;
+    if (cnt >= b->M && b->sah_split_cost > 0.0f) {
+        float nb[6];
+        rt_node_bounds(b, n, nb);
+        split = b->sah_split_cost * rt_box_area(nb);
+    }
+    float best = rt_box_area(e) + split;
+    for (int i = 0; i < cnt; i++) {
+        float lb[6], ub[6];
+        rt_soa_get(s, cap, i, lb);
+        memcpy(ub, lb, sizeof ub);
+        rt_box_grow(ub, e);
+        const int kc = b->hdr[ch[i]].count;
+        const float k = (float)kc;
+        const float c = rt_box_area(ub) * (k + 1.0f) - rt_box_area(lb) * k + (kc >= b->M ? split : 0.0f);
+        if (c < best) {
+            best = c;
+            best_i = i;
+        }
+    }
+    *cost = best;
+    return best_i;
+}
+
+typedef struct sah_cand {
+    float lb, ind;
+    uint32_t n;
+} sah_cand;
+#define SAH_HEAP 512
+
+static void heap_push(sah_cand *h, int *cnt, sah_cand c)
+{
+    if (*cnt == SAH_HEAP) return; /* full: the candidate is dropped */
+    int i = (*cnt)++;
+    while (i > 0 && h[(i - 1) / 2].lb > c.lb) {
+        h[i] = h[(i - 1) / 2];
+        i = (i - 1) / 2;
+    }
+    h[i] = c;
+}
+
+static sah_cand heap_pop(sah_cand *h, int *cnt)
+{
+    sah_cand top = h[0], last = h[--*cnt];
+    int i = 0;
+    for (;;) {
+        int c = 2 * i + 1;
+        if (c >= *cnt) break;
+        if (c + 1 < *cnt && h[c + 1].lb < h[c].lb) c++;
+        if (h[c].lb >= last.lb) break;
+        h[i] = h[c];
+        i = c;
+    }
+    if (*cnt) h[i] = last;
+    return top;
+}
+
+/* rt_builder.sah_leaves: the level-1 node where box e costs least
+ * (Bittner et al. 2013's search: best first by the area the path's boxes
+ * grow, bounded by the least a leaf can cost, A(e)). */
+static uint32_t find_level1_sah(const rt_builder *b, const float e[6])
+{
+    sah_cand heap[SAH_HEAP];
+    int cnt = 0;
+    const float ae = rt_box_area(e);
+    float best = INFINITY;
+    uint32_t best_n = TT_INVALID_ID;
+    int evals = 0;
+    heap_push(heap, &cnt, (sah_cand){ae, 0.0f, b->root});
+    while (cnt) {
+        const sah_cand c = heap_pop(heap, &cnt);
+        if (c.lb >= best) break;
+        const uint32_t n = c.n;
+        if (b->hdr[n].level == 1) {
+            float lc;
+            choose_leaf_sah(b, n, e, &lc);
+            if (c.ind + lc < best) {
+                best = c.ind + lc;
+                best_n = n;
+            }
+            if (++evals >= b->sah_max_evals) break;
+            continue;
+        }
+        const float *s = rt_node_box(b, n);
+        const uint32_t *ch = rt_node_child(b, n);
+        for (int i = 0; i < b->hdr[n].count; i++) {
+            float lb[6], ub[6];
+            rt_soa_get(s, b->cap, i, lb);
+            memcpy(ub, lb, sizeof ub);
+            rt_box_grow(ub, e);
+            const float ind = c.ind + (rt_box_area(ub) - rt_box_area(lb));
+            if (ind + ae < best) heap_push(heap, &cnt, (sah_cand){ind + ae, ind, ch[i]});
+        }
+    }
+    return best_n;
+}
+
+static tt_status overflow(rt_builder *b, uint32_t n);
+
+/* rt_builder.sah_leaves: triangle entry (e, c) into the leaf or new leaf
+ * the search found; the boxes on the way up grown to hold e. */
+static tt_status insert_triangle_sah(rt_builder *b, const float e[6], uint32_t c)
+{
+    uint32_t n = find_level1_sah(b, e);
+    if (n == TT_INVALID_ID) /* the search's heap overflowed: the greedy path */
+        for (n = b->root; b->hdr[n].level > 1;) n = rt_node_child(b, n)[choose_entry(b, n, e)];
+    for (uint32_t m = n; b->hdr[m].parent != TT_INVALID_ID; m = b->hdr[m].parent) {
+        const uint32_t p = b->hdr[m].parent;
+        float *s = rt_node_box(b, p);
+        const int cap = b->cap, i = b->hdr[m].slot;
+        rt_builder_touch(b, p);
+        for (int k = 0; k < 3; k++) {
+            s[k * cap + i] = rt_min(s[k * cap + i], e[k]);
+            s[(k + 3) * cap + i] = rt_max(s[(k + 3) * cap + i], e[k + 3]);
+        }
+    }
+    float cost;
+    const int i = choose_leaf_sah(b, n, e, &cost);
+    if (i < 0) { /* a leaf of its own, entered in n */
+        uint32_t leaf;
+        tt_status st = new_node(b, 0, &leaf);
+        if (st != TT_OK) return st;
+        add_entry(b, leaf, e, c);
+        add_entry(b, n, e, leaf);
+        if (b->hdr[n].count > b->M) return overflow(b, n);
+        return TT_OK;
+    }
+    float *s = rt_node_box(b, n);
+    const int cap = b->cap;
+    rt_builder_touch(b, n);
+    for (int k = 0; k < 3; k++) {
+        s[k * cap + i] = rt_min(s[k * cap + i], e[k]);
+        s[(k + 3) * cap + i] = rt_max(s[(k + 3) * cap + i], e[k + 3]);
+    }
+    const uint32_t leaf = rt_node_child(b, n)[i];
+    add_entry(b, leaf, e, c);
+    if (b->hdr[leaf].count > b->M) return overflow(b, leaf);
+    return TT_OK;
+}
+
 /* Inserts entry (box e, child c) into a node at `level`, descending from the
  * root by the strategy and growing the boxes on the way (they then hold e). */
 static tt_status insert_entry(rt_builder *b, const float e[6], uint32_t c, int level)
 {
+    if (b->sah_leaves && level == 0 && b->hdr[b->root].level >= 1)
+        return insert_triangle_sah(b, e, c);
     uint32_t n = b->root;
     while (b->hdr[n].level > level) {
         int i = choose_entry(b, n, e);
