@@ -11,6 +11,7 @@
  * never has more than M <= 16 entries to choose from. */
 #include "accel/rtree/build/rtree_build.h"
 
+#include <math.h>
 #include <string.h>
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -372,10 +373,228 @@ static tt_status overflow(rt_builder *b, uint32_t n)
     return split_node(b, n);
 }
 
+/* The surface areas (without the factor 2) of node n's entries and of
+ * their unions with box e, into area[] and grown[] (cnt rounded up to
+ * whole SIMD lanes: the pool's spare lanes are read, their results unused). */
+static void entry_areas(const rt_builder *b, uint32_t n, const float e[6], float *area,
+                        float *grown)
+{
+    const float *s = rt_node_box(b, n);
+    const int cap = b->cap, cnt = b->hdr[n].count;
+    const float *lx = s, *ly = s + cap, *lz = s + 2 * cap;
+    const float *hx = s + 3 * cap, *hy = s + 4 * cap, *hz = s + 5 * cap;
+#if defined(__SSE2__)
+    const __m128 e0 = _mm_set1_ps(e[0]), e1 = _mm_set1_ps(e[1]), e2 = _mm_set1_ps(e[2]);
+    const __m128 e3 = _mm_set1_ps(e[3]), e4 = _mm_set1_ps(e[4]), e5 = _mm_set1_ps(e[5]);
+    for (int i = 0; i < cnt; i += 4) {
+        const __m128 Lx = _mm_loadu_ps(lx + i), Ly = _mm_loadu_ps(ly + i);
+        const __m128 Lz = _mm_loadu_ps(lz + i), Hx = _mm_loadu_ps(hx + i);
+        const __m128 Hy = _mm_loadu_ps(hy + i), Hz = _mm_loadu_ps(hz + i);
+        const __m128 ex = _mm_sub_ps(Hx, Lx), ey = _mm_sub_ps(Hy, Ly), ez = _mm_sub_ps(Hz, Lz);
+        const __m128 ux = _mm_sub_ps(_mm_max_ps(Hx, e3), _mm_min_ps(Lx, e0));
+        const __m128 uy = _mm_sub_ps(_mm_max_ps(Hy, e4), _mm_min_ps(Ly, e1));
+        const __m128 uz = _mm_sub_ps(_mm_max_ps(Hz, e5), _mm_min_ps(Lz, e2));
+        _mm_storeu_ps(area + i, _mm_add_ps(_mm_add_ps(_mm_mul_ps(ex, ey), _mm_mul_ps(ey, ez)),
+                                           _mm_mul_ps(ez, ex)));
+        _mm_storeu_ps(grown + i, _mm_add_ps(_mm_add_ps(_mm_mul_ps(ux, uy), _mm_mul_ps(uy, uz)),
+                                            _mm_mul_ps(uz, ux)));
+    }
+#else
+    for (int i = 0; i < cnt; i++) {
+        const float ex = hx[i] - lx[i], ey = hy[i] - ly[i], ez = hz[i] - lz[i];
+        const float ux = rt_max(hx[i], e[3]) - rt_min(lx[i], e[0]);
+        const float uy = rt_max(hy[i], e[4]) - rt_min(ly[i], e[1]);
+        const float uz = rt_max(hz[i], e[5]) - rt_min(lz[i], e[2]);
+        area[i] = ex * ey + ey * ez + ez * ex;
+        grown[i] = ux * uy + uy * uz + uz * ux;
+    }
+#endif
+}
+
+/* Half the surface area, as entry_areas measures it. */
+static float half_area(const float b[6])
+{
+    const float x = b[3] - b[0], y = b[4] - b[1], z = b[5] - b[2];
+    return x * y + y * z + z * x;
+}
+
+/* rt_builder.sah_leaves: the leaf of level-1 node n (of half area an,
+ * before e) whose cost grows least by taking box e (of half area ae), or
+ * -1 where a new leaf of e alone costs less; the cost into *cost. */
+static int choose_leaf_sah(const rt_builder *b, uint32_t n, const float e[6], float ae, float an,
+                           float *cost)
+{
+    const uint32_t *ch = rt_node_child(b, n);
+    const int cnt = b->hdr[n].count, M = b->M;
+    float area[TT_RT_CAP + 3], grown[TT_RT_CAP + 3];
+    entry_areas(b, n, e, area, grown);
+    /* a new leaf in a full node splits it: one more node to visit, about
+     * as big as n (the same for a full leaf, whose split adds a leaf) */
+    const float split = cnt >= M ? b->sah_split_cost * an : 0.0f;
+    float best = ae + split;
+    int best_i = -1;
+    for (int i = 0; i < cnt; i++) {
+        const int kc = b->hdr[ch[i]].count;
+        const float k = (float)kc;
+        const float c = grown[i] * (k + 1.0f) - area[i] * k + (kc >= M ? split : 0.0f);
+        if (c < best) {
+            best = c;
+            best_i = i;
+        }
+    }
+    *cost = best;
+    return best_i;
+}
+
+typedef struct sah_cand {
+    float lb, ind, area; /* bound, the path's growth, the node's half area */
+    uint32_t n;
+} sah_cand;
+#define SAH_HEAP 512
+
+static void heap_push(sah_cand *h, int *cnt, sah_cand c)
+{
+    if (*cnt == SAH_HEAP) return; /* full: the candidate is dropped */
+    int i = (*cnt)++;
+    while (i > 0 && h[(i - 1) / 2].lb > c.lb) {
+        h[i] = h[(i - 1) / 2];
+        i = (i - 1) / 2;
+    }
+    h[i] = c;
+}
+
+static sah_cand heap_pop(sah_cand *h, int *cnt)
+{
+    sah_cand top = h[0], last = h[--*cnt];
+    int i = 0;
+    for (;;) {
+        int c = 2 * i + 1;
+        if (c >= *cnt) break;
+        if (c + 1 < *cnt && h[c + 1].lb < h[c].lb) c++;
+        if (h[c].lb >= last.lb) break;
+        h[i] = h[c];
+        i = c;
+    }
+    if (*cnt) h[i] = last;
+    return top;
+}
+
+/* rt_builder.sah_leaves: the level-1 node where box e costs least
+ * (Bittner et al. 2013's search: best first by the area the path's boxes
+ * grow, bounded by the least a leaf can cost, A(e)); *an its half area. */
+static uint32_t find_level1_sah(const rt_builder *b, const float e[6], float *an)
+{
+    sah_cand heap[SAH_HEAP];
+    int cnt = 0, evals = 0;
+    const float ae = half_area(e);
+    float best = INFINITY;
+    uint32_t best_n = TT_INVALID_ID;
+    float rb[6];
+    rt_node_bounds(b, b->root, rb);
+    /* the greedy descent's node first (least growth at each level): its
+     * cost bounds the search, which then pushes few candidates */
+    {
+        uint32_t n = b->root;
+        float ind = 0.0f, na = half_area(rb);
+        while (b->hdr[n].level > 1) {
+            float area[TT_RT_CAP + 3], grown[TT_RT_CAP + 3];
+            entry_areas(b, n, e, area, grown);
+            int bi = 0;
+            for (int i = 1; i < b->hdr[n].count; i++) {
+                const float d = grown[i] - area[i], db = grown[bi] - area[bi];
+                if (d < db || (d == db && area[i] < area[bi])) bi = i;
+            }
+            ind += grown[bi] - area[bi];
+            na = area[bi];
+            n = rt_node_child(b, n)[bi];
+        }
+        float lc;
+        choose_leaf_sah(b, n, e, ae, na, &lc);
+        best = ind + lc;
+        best_n = n;
+        *an = na;
+    }
+    heap_push(heap, &cnt, (sah_cand){ae, 0.0f, half_area(rb), b->root});
+    while (cnt) {
+        const sah_cand c = heap_pop(heap, &cnt);
+        if (c.lb >= best) break;
+        const uint32_t n = c.n;
+        if (b->hdr[n].level == 1) {
+            float lc;
+            choose_leaf_sah(b, n, e, ae, c.area, &lc);
+            if (c.ind + lc < best) {
+                best = c.ind + lc;
+                best_n = n;
+                *an = c.area;
+            }
+            if (++evals >= b->sah_max_evals) break;
+            continue;
+        }
+        float area[TT_RT_CAP + 3], grown[TT_RT_CAP + 3];
+        entry_areas(b, n, e, area, grown);
+        const uint32_t *ch = rt_node_child(b, n);
+        for (int i = 0; i < b->hdr[n].count; i++) {
+            const float ind = c.ind + (grown[i] - area[i]);
+            if (ind + ae < best) heap_push(heap, &cnt, (sah_cand){ind + ae, ind, area[i], ch[i]});
+        }
+    }
+    return best_n;
+}
+
+static tt_status overflow(rt_builder *b, uint32_t n);
+
+/* rt_builder.sah_leaves: triangle entry (e, c) into the leaf or new leaf
+ * the search found; the boxes on the way up grown to hold e. */
+static tt_status insert_triangle_sah(rt_builder *b, const float e[6], uint32_t c)
+{
+    float an = 0.0f;
+    uint32_t n = find_level1_sah(b, e, &an);
+    if (n == TT_INVALID_ID) { /* the search's heap overflowed: the greedy path */
+        for (n = b->root; b->hdr[n].level > 1;) n = rt_node_child(b, n)[choose_entry(b, n, e)];
+        float nb[6];
+        rt_node_bounds(b, n, nb);
+        an = half_area(nb);
+    }
+    for (uint32_t m = n; b->hdr[m].parent != TT_INVALID_ID; m = b->hdr[m].parent) {
+        const uint32_t p = b->hdr[m].parent;
+        float *s = rt_node_box(b, p);
+        const int cap = b->cap, i = b->hdr[m].slot;
+        rt_builder_touch(b, p);
+        for (int k = 0; k < 3; k++) {
+            s[k * cap + i] = rt_min(s[k * cap + i], e[k]);
+            s[(k + 3) * cap + i] = rt_max(s[(k + 3) * cap + i], e[k + 3]);
+        }
+    }
+    float cost;
+    const int i = choose_leaf_sah(b, n, e, half_area(e), an, &cost);
+    if (i < 0) { /* a leaf of its own, entered in n */
+        uint32_t leaf;
+        tt_status st = new_node(b, 0, &leaf);
+        if (st != TT_OK) return st;
+        add_entry(b, leaf, e, c);
+        add_entry(b, n, e, leaf);
+        if (b->hdr[n].count > b->M) return overflow(b, n);
+        return TT_OK;
+    }
+    float *s = rt_node_box(b, n);
+    const int cap = b->cap;
+    rt_builder_touch(b, n);
+    for (int k = 0; k < 3; k++) {
+        s[k * cap + i] = rt_min(s[k * cap + i], e[k]);
+        s[(k + 3) * cap + i] = rt_max(s[(k + 3) * cap + i], e[k + 3]);
+    }
+    const uint32_t leaf = rt_node_child(b, n)[i];
+    add_entry(b, leaf, e, c);
+    if (b->hdr[leaf].count > b->M) return overflow(b, leaf);
+    return TT_OK;
+}
+
 /* Inserts entry (box e, child c) into a node at `level`, descending from the
  * root by the strategy and growing the boxes on the way (they then hold e). */
 static tt_status insert_entry(rt_builder *b, const float e[6], uint32_t c, int level)
 {
+    if (b->sah_leaves && level == 0 && b->hdr[b->root].level >= 1)
+        return insert_triangle_sah(b, e, c);
     uint32_t n = b->root;
     while (b->hdr[n].level > level) {
         int i = choose_entry(b, n, e);

@@ -66,6 +66,16 @@ typedef struct rt_builder {
      * (rtree_dyn_compact.c); NULL for a one-shot build */
     void (*touch)(void *user, uint32_t n);
     void *touch_user;
+    /* Dynamic updates (0 for one-shot builds: the strategy's choice): a
+     * triangle goes where the tree's SAH cost grows least. The level-1
+     * nodes are searched best first by the area their path's boxes grow
+     * (Bittner et al. 2013's insertion search), up to sah_max_evals of
+     * them; in each, joining leaf i costs A(leaf i + t) (count + 1) -
+     * A(leaf i) count, a new leaf of its own A(t), and an option that
+     * splits a full node (a new leaf in it, or a full leaf's split) also
+     * sah_split_cost x the node's area (one more node to visit). */
+    int sah_leaves, sah_max_evals;
+    float sah_split_cost;
     /* the overlap criterion's kernel for this CPU (rtree_choose_overlap.h);
      * NULL: the baseline one */
     void (*overlap_keys)(const float *s, int cap, int cnt, const float e[6],

@@ -35,19 +35,23 @@ tt_status rtc_io_save(tt_context *ctx, const rtc_tree *t, tt_af_writer *w)
 
 static int is_pos_inf(float x) { return isinf(x) && x > 0.0f; }
 
-/* Record n: its counts, levels, references and unused slots. */
+/* Record n: its counts, levels, references and unused slots. A tree
+ * updated in place (rtree/update/) is saved in its slack layout: free
+ * records (tt_rtc_is_free) between the used ones, and a node's group of
+ * children may lie before it. Levels fall by one along every reference
+ * and every child names its parent, so no walk can cycle. */
 static tt_status check_node(tt_context *ctx, const tt_af_file *f, const tt_rtc *c, uint32_t n)
 {
     const float *rec = tt_rtc_node(c, n);
     const uint32_t *ref = tt_rtc_child(c, rec);
     const uint32_t count = tt_rtc_count(c, rec), level = tt_rtc_level(c, rec);
     const uint32_t parent = tt_rtc_parent(c, rec);
+    if (n != 0 && tt_rtc_is_free(c, rec)) return TT_OK;
     if (count > c->M || level < 1 || level > c->height)
         return tt_af_bad(ctx, f, "node %u: %u entries on level %u (M = %u, height %u)", n, count,
                          level, c->M, c->height);
-    if (n == 0 ? (parent != TT_INVALID_ID || level != c->height) : parent >= n)
-        return tt_af_bad(ctx, f, "node %u: parent %u / level %u break the depth-first order", n,
-                         parent, level);
+    if (n == 0 ? (parent != TT_INVALID_ID || level != c->height) : (parent >= c->nodes || parent == n))
+        return tt_af_bad(ctx, f, "node %u: parent %u / level %u out of range", n, parent, level);
     for (uint32_t i = count; i < c->S; i++)
         for (uint32_t k = 0; k < 6; k++)
             if (!is_pos_inf(rec[k * c->S + i]))
@@ -55,7 +59,7 @@ static tt_status check_node(tt_context *ctx, const tt_af_file *f, const tt_rtc *
     for (uint32_t i = 0; i < count; i++) {
         if (level >= 2) {
             const uint32_t ch = ref[i];
-            if (ch <= n || ch >= c->nodes || ch != ref[0] + i)
+            if (ch == 0 || ch >= c->nodes || ch != ref[0] + i)
                 return tt_af_bad(ctx, f, "node %u: child %u is node %u (of %u), out of order",
                                  n, i, ch, c->nodes);
             const float *crec = tt_rtc_node(c, ch);

@@ -182,7 +182,13 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
         st = rt_dyn_delete(d, id);
         removed++;
     }
-    /* 3. insertions: new ids, reused ids, jumped ones */
+    /* 3. insertions: new ids, reused ids, jumped ones. By the SAH
+     * (rt_builder.sah_leaves) in an edit (some removed, few changed
+     * against the tree); a tree grown from nothing by whole objects (the
+     * bench's growth, additions only) took its new leaves and split charge
+     * badly (bunny SAH 3.5x -> 39x a fresh build's; with only the "few"
+     * test 12.9x), so it keeps the least-surface choice */
+    d->b.sah_leaves = removed > 0 && (changed - moved) * 8 <= live;
     for (size_t i = 0; i < changed && st == TT_OK; i++) {
         const uint32_t id = ids[i];
         if (tt_scene_is_dead(scene, id) || d->leaf_of[id] != TT_INVALID_ID) continue;
