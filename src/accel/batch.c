@@ -26,7 +26,7 @@ typedef struct plan {
     long items;
 } plan;
 
-static void plan_make(plan *p, size_t n, const tt_batch_options *o, int threads, int packets)
+static void plan_make(plan *p, size_t n, const tt_batch_options *o, int threads, int cap)
 {
     p->n = n;
     p->width = o->image_width;
@@ -43,8 +43,8 @@ static void plan_make(plan *p, size_t n, const tt_batch_options *o, int threads,
         chunk = n / ((size_t)threads * 8u);
         chunk = chunk < 16u ? 16u : chunk > MAX_CHUNK ? MAX_CHUNK : chunk;
     }
-    /* a packet call takes at most TT_PACKET_MAX rays: one item */
-    if (packets && chunk > TT_PACKET_MAX) chunk = TT_PACKET_MAX;
+    /* a packet or rows call takes at most TT_PACKET_MAX rays: one item */
+    if (cap && chunk > TT_PACKET_MAX) chunk = TT_PACKET_MAX;
     p->chunk = chunk;
     p->tiles_x = 0;
     p->items = (long)((n + chunk - 1) / chunk);
@@ -230,10 +230,16 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
     const int use_packets = packets_allowed(accel, vt, o, hits != NULL);
     /* the counting variants trace when either count is asked for */
     const int counting = o->stats != NULL || o->packet_stats != NULL;
+    /* single rays through the structure's rows entry where it has one (the
+     * counting variants keep their per-ray calls): items that are not
+     * packets, and the few rays of a packet item too small to be one
+     * (the rows entry answers as the single-ray one does either way) */
+    const int use_rows =
+        !counting && (hits ? vt->intersect_rows != NULL : vt->occluded_rows != NULL);
     tt_status entered = tt_accel_trace_enter(accel, call);
     if (entered != TT_OK) return entered;
     plan p;
-    plan_make(&p, n, o, threads, use_packets);
+    plan_make(&p, n, o, threads, use_packets || use_rows);
     size_t bad = SIZE_MAX, bad_count = 0;
 #pragma omp parallel num_threads(threads) reduction(min : bad) reduction(+ : bad_count)
     {
@@ -249,6 +255,7 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
 #pragma omp for schedule(dynamic)
         for (long c = 0; c < p.items; c++) {
             int packet = use_packets;
+            int rows = use_rows;
             if (packet && o->packets == TT_PACKETS_AUTO) {
                 /* decide from the directions alone, before preparing any
                  * ray: an incoherent item then takes the plain loop below
@@ -276,9 +283,9 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                 }
                 packet = !hopeless && seen >= TT_PACKET_MIN && tt_packet_boxes_coherent(&db, &eb);
             }
-            if (packet) {
-                /* the item's rays straight into the packet's rows; the
-                 * kernel derives reciprocals, shear and octants itself */
+            if (packet || rows) {
+                /* the item's rays straight into rows; the kernel derives
+                 * reciprocals, shear and octants itself */
                 uint32_t np = 0;
                 FOR_EACH_RAY(&p, c, i) {
                     load_row(rays, i, pr, np);
@@ -315,11 +322,16 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                     }
                     pr->n = np = keep;
                 }
-                if (np >= TT_PACKET_MIN || o->packets == TT_PACKETS_ON) {
+                if (packet && (np >= TT_PACKET_MIN || o->packets == TT_PACKETS_ON)) {
                     if (hits && counting) vt->intersect_packet_stats(accel, pr, ph, &plocal);
                     else if (hits) vt->intersect_packet(accel, pr, ph);
                     else if (counting) vt->occluded_packet_stats(accel, pr, pocc, &plocal);
                     else vt->occluded_packet(accel, pr, pocc);
+                } else if (rows) {
+                    /* single rays in the structure's kernel unit: no
+                     * per-ray preparation or calls through pointers here */
+                    if (hits) vt->intersect_rows(accel, pr, o->start_hint, ph);
+                    else vt->occluded_rows(accel, pr, o->start_hint, pocc);
                 } else {
                     for (uint32_t j = 0; j < np; j++) {
                         tt_trace_args args = {o->start_hint, TT_INVALID_ID,
