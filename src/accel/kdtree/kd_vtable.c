@@ -140,6 +140,21 @@ static void kd_occluded_packet_stats(const tt_accel *a, const tt_packet_rays *ra
     kd_packet(a, rays, 1, NULL, occ, stats);
 }
 
+/* Rows one by one (the batch's single rays): the kernel unit's loop over
+ * its own traversal (kd_rows.h), every traversal, start hint included. */
+static void kd_intersect_rows(const tt_accel *a, const tt_packet_rays *rays, uint32_t start_hint,
+                              tt_hit *hits)
+{
+    tree(a)->fast.rows(&tree(a)->fast_view, a->options.kdtree.traversal, rays, 0, start_hint,
+                       hits, NULL);
+}
+static void kd_occluded_rows(const tt_accel *a, const tt_packet_rays *rays, uint32_t start_hint,
+                             uint8_t *occ)
+{
+    tree(a)->fast.rows(&tree(a)->fast_view, a->options.kdtree.traversal, rays, 1, start_hint,
+                       NULL, occ);
+}
+
 static uint32_t kd_locate(const tt_accel *a, const float *p) { return tt_kdtree_locate(tree(a), p); }
 
 static tt_status kd_check(const tt_accel *a) { return tt_kdtree_check(a->ctx, a->scene, tree(a)); }
@@ -192,6 +207,8 @@ const tt_accel_vtable tt_kdtree_vtable = {
     .occluded_packet = kd_occluded_packet,
     .intersect_packet_stats = kd_intersect_packet_stats,
     .occluded_packet_stats = kd_occluded_packet_stats,
+    .intersect_rows = kd_intersect_rows,
+    .occluded_rows = kd_occluded_rows,
     .packets_for = kd_packets_for,
     .locate = kd_locate,
     .check = kd_check,

@@ -25,6 +25,15 @@ typedef int (*tt_rtc_trace_fn)(const tt_rtc *t, const tt_wray *r, int any, tt_hi
 typedef void (*tt_rtc_packet_fn)(const tt_rtc *t, const tt_packet_rays *rays, int any,
                                  tt_hit *hits, uint8_t *occ, tt_packet_stats *stats);
 
+/* Rows traced one by one (the vtable's intersect_rows / occluded_rows):
+ * rays->n <= TT_PACKET_MAX rows, row i answered exactly as the unit's
+ * single-ray traversal answers tt_wray_init of it, into hits[i] (any = 0)
+ * or occ[i] (any = 1). A loop in the unit (rtc_rows.h) over its own
+ * traversal: the rays prepared eight at a time (accel/wray_rows.h), no
+ * call through a pointer a ray. */
+typedef void (*tt_rtc_rows_fn)(const tt_rtc *t, const tt_packet_rays *rays, int any,
+                               tt_hit *hits, uint8_t *occ);
+
 typedef struct rtc_tree {
     tt_rtc c;
     void *node_mem, *block_mem; /* the allocations behind c.node, c.block */
@@ -38,6 +47,8 @@ typedef struct rtc_tree {
     /* NULL where this ISA has no packet kernel (scalar, SSE4.2) or the
      * traversal is the stackless one: the rays then go one by one */
     tt_rtc_packet_fn packet, packet_stats;
+    /* trace's rows form (NULL: the vtable loops over trace itself) */
+    tt_rtc_rows_fn rows;
 } rtc_tree;
 
 /* Packs the finished pointer tree (any builder's) into t; on error t holds
@@ -75,11 +86,15 @@ int tt_rtc_stackless_scalar(const tt_rtc *t, const tt_wray *r, int any, tt_hit *
                             tt_ray_stats *stats);
 int tt_rtc_stackless_scalar_stats(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,
                                   tt_ray_stats *stats);
+void tt_rtc_stackless_scalar_rows(const tt_rtc *t, const tt_packet_rays *rays, int any,
+                                  tt_hit *hits, uint8_t *occ);
 #define TT_RTC_DECLARE_STACK(isa)                                                                 \
     int tt_rtc_stack_##isa(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,               \
                            tt_ray_stats *stats);                                                  \
     int tt_rtc_stack_##isa##_stats(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,       \
-                                   tt_ray_stats *stats);
+                                   tt_ray_stats *stats);                                          \
+    void tt_rtc_stack_##isa##_rows(const tt_rtc *t, const tt_packet_rays *rays, int any,          \
+                                   tt_hit *hits, uint8_t *occ);
 TT_RTC_DECLARE_STACK(scalar)
 #ifdef TT_HAVE_X86_KERNELS
 TT_RTC_DECLARE_STACK(sse42)

@@ -279,6 +279,36 @@ static void rtree_occluded_packet_stats(const tt_accel *a, const tt_packet_rays 
     rtree_packet(a, rays, 1, NULL, occ, stats);
 }
 
+/* Rows one by one (the batch's single rays): the compact layout's unit
+ * loops over its own traversal (rtc_rows.h); the complete layout, whose
+ * auto traversal takes the start hint, ray by ray here. */
+static void rtree_rows(const tt_accel *a, const tt_packet_rays *rays, uint32_t start_hint,
+                       int any, tt_hit *hits, uint8_t *occ)
+{
+    const rt_tree *t = a->impl;
+    if (t->layout == TT_RTREE_LAYOUT_COMPACT && t->compact.rows) {
+        t->compact.rows(&t->compact.c, rays, any, hits, occ);
+        return;
+    }
+    for (uint32_t i = 0; i < rays->n; i++) {
+        tt_wray w;
+        tt_trace_args args = {start_hint, TT_INVALID_ID, NULL};
+        tt_packet_ray_wray(rays, i, &w);
+        if (any) occ[i] = (uint8_t)(rtree_occluded(a, &w, &args) != 0);
+        else rtree_intersect(a, &w, &hits[i], &args);
+    }
+}
+static void rtree_intersect_rows(const tt_accel *a, const tt_packet_rays *rays,
+                                 uint32_t start_hint, tt_hit *hits)
+{
+    rtree_rows(a, rays, start_hint, 0, hits, NULL);
+}
+static void rtree_occluded_rows(const tt_accel *a, const tt_packet_rays *rays,
+                                uint32_t start_hint, uint8_t *occ)
+{
+    rtree_rows(a, rays, start_hint, 1, NULL, occ);
+}
+
 static uint32_t rtree_locate(const tt_accel *a, const float *p) { return rt_locate(a->impl, p); }
 
 static tt_status rtree_check(const tt_accel *a)
@@ -353,6 +383,9 @@ static tt_status rtree_update(tt_accel *a, uint64_t since)
         t->dyn = d;
     }
     tt_status st = rt_dyn_update(t->dyn, a->ctx, &t->compact, a->scene, since);
+    /* a rewritten layout (repack, compaction) keeps only some of the
+     * kernel pointers: choose them all again */
+    rtc_select(&t->compact, (int)a->options.rtree.traversal, a->isa);
     if (st != TT_OK) { /* the pointer tree may be half-changed: start over next time */
         rt_dyn_free(a->ctx, t->dyn);
         tt_free(a->ctx, t->dyn);
@@ -374,6 +407,8 @@ const tt_accel_vtable tt_rtree_vtable = {
     .occluded_packet = rtree_occluded_packet,
     .intersect_packet_stats = rtree_intersect_packet_stats,
     .occluded_packet_stats = rtree_occluded_packet_stats,
+    .intersect_rows = rtree_intersect_rows,
+    .occluded_rows = rtree_occluded_rows,
     .locate = rtree_locate,
     .check = rtree_check,
     .statistics = rtree_statistics,

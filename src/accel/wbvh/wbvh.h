@@ -63,7 +63,9 @@ tt_status wbvh_pack(tt_context *ctx, const wbvh_bin_tree *b, const float *scene_
     int tt_wbvh_trace_##isa(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,              \
                             tt_ray_stats *stats);                                                 \
     int tt_wbvh_trace_##isa##_stats(const tt_rtc *t, const tt_wray *r, int any, tt_hit *hit,      \
-                                    tt_ray_stats *stats);
+                                    tt_ray_stats *stats);                                         \
+    void tt_wbvh_trace_##isa##_rows(const tt_rtc *t, const tt_packet_rays *rays, int any,         \
+                                    tt_hit *hits, uint8_t *occ);
 TT_WBVH_DECLARE(scalar)
 #ifdef TT_HAVE_X86_KERNELS
 TT_WBVH_DECLARE(sse42)

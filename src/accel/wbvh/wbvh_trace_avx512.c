@@ -17,3 +17,10 @@
 #define TT_STATS 1
 #include "accel/stats_variant.h"
 #include "accel/wbvh/wbvh_trace.h"
+
+/* The rows form (the batch calls' single rays), the fast variant's walk
+ * inlined (TT_STATS is 1 here: the names are spelled out). */
+#define RTC_ROWS_NAME tt_wbvh_trace_avx512_rows
+#define RTC_ROWS_WALK wbvh_trace_m_avx512
+#define RTC_ROWS_SCALAR tt_wbvh_trace_scalar
+#include "accel/rtree/trace/rtc_rows_walk.h"

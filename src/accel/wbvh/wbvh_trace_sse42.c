@@ -17,3 +17,7 @@
 #define TT_STATS 1
 #include "accel/stats_variant.h"
 #include "accel/wbvh/wbvh_trace.h"
+
+/* The rows form (the batch calls' single rays). */
+#include "accel/rtree/trace/rtc_rows.h"
+RTC_DEFINE_ROWS(tt_wbvh_trace_sse42_rows, tt_wbvh_trace_sse42)

@@ -93,6 +93,24 @@ static int wbvh_occluded_stats(const tt_accel *a, const tt_wray *r, tt_trace_arg
     return w->t.trace_stats(&w->t.c, r, 1, NULL, stats);
 }
 
+/* Rows one by one (the batch's single rays): the unit's loop over its own
+ * traversal (rtree/trace/rtc_rows.h); no start hints. */
+static void wbvh_intersect_rows(const tt_accel *a, const tt_packet_rays *rays,
+                                uint32_t start_hint, tt_hit *hits)
+{
+    (void)start_hint;
+    const wbvh_tree *w = a->impl;
+    w->t.rows(&w->t.c, rays, 0, hits, NULL);
+}
+
+static void wbvh_occluded_rows(const tt_accel *a, const tt_packet_rays *rays,
+                               uint32_t start_hint, uint8_t *occ)
+{
+    (void)start_hint;
+    const wbvh_tree *w = a->impl;
+    w->t.rows(&w->t.c, rays, 1, NULL, occ);
+}
+
 static tt_status wbvh_check(const tt_accel *a)
 {
     const wbvh_tree *w = a->impl;
@@ -160,6 +178,8 @@ const tt_accel_vtable tt_wbvh_vtable = {
     .occluded = wbvh_occluded,
     .intersect_stats = wbvh_intersect_stats,
     .occluded_stats = wbvh_occluded_stats,
+    .intersect_rows = wbvh_intersect_rows,
+    .occluded_rows = wbvh_occluded_rows,
     .check = wbvh_check,
     .statistics = wbvh_statistics,
     .memory = wbvh_memory,

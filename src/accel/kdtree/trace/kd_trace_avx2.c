@@ -41,4 +41,16 @@ int tt_kd_avx2_occluded(const tt_kd_view *T, int traversal, const tt_wray *r, ui
     if (kd_lines_occluded(T, traversal, r, caster, end, &occ)) return occ;
     return tt_kd_occluded(T, traversal, r, hint, caster, end, NULL);
 }
+
+/* The rows form (the batch calls' single rays); a view without leaf
+ * blocks goes to the scalar kernel's, as above. */
+#include "accel/kdtree/trace/kd_rows.h"
+KD_DEFINE_ROWS(kd_avx2_rows_blocks, tt_kd_intersect, tt_kd_occluded)
+
+void tt_kd_avx2_rows(const tt_kd_view *T, int traversal, const struct tt_packet_rays *rays,
+                    int any, uint32_t hint, tt_hit *hits, uint8_t *occ)
+{
+    if (!T->blocks) tt_kd_cpu_rows(T, traversal, rays, any, hint, hits, occ);
+    else kd_avx2_rows_blocks(T, traversal, rays, any, hint, hits, occ);
+}
 #endif

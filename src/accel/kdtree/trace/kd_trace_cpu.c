@@ -30,6 +30,9 @@ void tt_kd_cpu_intersect_stats(const tt_kd_view *T, int traversal, const tt_wray
     tt_kd_intersect_stats(T, traversal, r, hint, hit, end, stats);
 }
 
+#include "accel/kdtree/trace/kd_rows.h"
+KD_DEFINE_ROWS(tt_kd_cpu_rows, tt_kd_intersect, tt_kd_occluded)
+
 int tt_kd_cpu_occluded_stats(const tt_kd_view *T, int traversal, const tt_wray *r, uint32_t hint,
                              uint32_t caster, uint32_t *end, tt_ray_stats *stats)
 {
@@ -56,17 +59,19 @@ int tt_kd_cpu_stackless(const tt_kd_view *T, int seq, const tt_wray *r, int any,
 
 tt_kd_kernels tt_kd_cpu_kernels(tt_isa isa, size_t triangle_count)
 {
-    tt_kd_kernels k = {tt_kd_cpu_intersect, tt_kd_cpu_occluded, 0};
+    tt_kd_kernels k = {tt_kd_cpu_intersect, tt_kd_cpu_occluded, tt_kd_cpu_rows, 0};
     (void)isa;
     (void)triangle_count;
 #if defined(TT_HAVE_X86_KERNELS)
     if (isa == TT_ISA_AVX2) {
         k.intersect = tt_kd_avx2_intersect;
         k.occluded = tt_kd_avx2_occluded;
+        k.rows = tt_kd_avx2_rows;
         k.blocks = 1;
     } else if (isa == TT_ISA_AVX512) {
         k.intersect = tt_kd_avx512_intersect;
         k.occluded = tt_kd_avx512_occluded;
+        k.rows = tt_kd_avx512_rows;
         k.blocks = 1;
     }
 #endif

@@ -6,12 +6,16 @@
 #include "geometry/ray.h"
 #include "treetrace/treetrace.h"
 
+struct tt_packet_rays; /* accel/accel.h: the rows forms' rays */
+
 void tt_kd_cpu_intersect(const tt_kd_view *T, int traversal, const tt_wray *r, uint32_t hint,
                          tt_hit *hit, uint32_t *end);
 int tt_kd_cpu_occluded(const tt_kd_view *T, int traversal, const tt_wray *r, uint32_t hint,
                        uint32_t caster, uint32_t *end);
 void tt_kd_cpu_intersect_stats(const tt_kd_view *T, int traversal, const tt_wray *r,
                                uint32_t hint, tt_hit *hit, uint32_t *end, tt_ray_stats *stats);
+void tt_kd_cpu_rows(const tt_kd_view *T, int traversal, const struct tt_packet_rays *rays,
+                    int any, uint32_t hint, tt_hit *hits, uint8_t *occ);
 int tt_kd_cpu_occluded_stats(const tt_kd_view *T, int traversal, const tt_wray *r, uint32_t hint,
                              uint32_t caster, uint32_t *end, tt_ray_stats *stats);
 
@@ -22,9 +26,18 @@ typedef void (*tt_kd_intersect_fn)(const tt_kd_view *T, int traversal, const tt_
                                    uint32_t hint, tt_hit *hit, uint32_t *end);
 typedef int (*tt_kd_occluded_fn)(const tt_kd_view *T, int traversal, const tt_wray *r,
                                  uint32_t hint, uint32_t caster, uint32_t *end);
+/* Their rows form (the vtable's intersect_rows / occluded_rows): rays->n
+ * rows one by one, each with start hint `hint` and no caster, answered as
+ * the single-ray entry answers tt_wray_init of it, into hits[i] (any = 0)
+ * or occ[i] (any = 1); the rays prepared eight at a time
+ * (accel/wray_rows.h), the traversal called directly (kd_rows.h). */
+typedef void (*tt_kd_rows_fn)(const tt_kd_view *T, int traversal,
+                              const struct tt_packet_rays *rays, int any, uint32_t hint,
+                              tt_hit *hits, uint8_t *occ);
 typedef struct tt_kd_kernels {
     tt_kd_intersect_fn intersect;
     tt_kd_occluded_fn occluded;
+    tt_kd_rows_fn rows;
     /* 1: they read leaves from the view's blocks (kd_blocks.h), so they
      * must be given a block view, never the tree's plain one. */
     int blocks;
@@ -49,6 +62,10 @@ void tt_kd_avx512_intersect(const tt_kd_view *T, int traversal, const tt_wray *r
                             tt_hit *hit, uint32_t *end);
 int tt_kd_avx512_occluded(const tt_kd_view *T, int traversal, const tt_wray *r, uint32_t hint,
                           uint32_t caster, uint32_t *end);
+void tt_kd_avx2_rows(const tt_kd_view *T, int traversal, const struct tt_packet_rays *rays,
+                     int any, uint32_t hint, tt_hit *hits, uint8_t *occ);
+void tt_kd_avx512_rows(const tt_kd_view *T, int traversal, const struct tt_packet_rays *rays,
+                       int any, uint32_t hint, tt_hit *hits, uint8_t *occ);
 #endif
 
 /* SLTR (seq == 0) or SEQ with a near-tie search budget of `spare` descents

@@ -19,3 +19,10 @@
 #define TT_STATS 1
 #include "accel/stats_variant.h"
 #include "accel/rtree/trace/rtc_trace_stack.h"
+
+/* The rows form (the batch calls' single rays), the fast variant's walk
+ * inlined (TT_STATS is 1 here: the names are spelled out). */
+#define RTC_ROWS_NAME tt_rtc_stack_avx512_rows
+#define RTC_ROWS_WALK rtc_stack_m_avx512
+#define RTC_ROWS_SCALAR tt_rtc_stack_scalar
+#include "accel/rtree/trace/rtc_rows_walk.h"

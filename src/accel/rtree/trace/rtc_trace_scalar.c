@@ -31,3 +31,8 @@ int tt_rtc_stackless_scalar_stats(const tt_rtc *t, const tt_wray *r, int any, tt
 {
     return tt_rtc_stackless_stats(t, r, any, hit, stats);
 }
+
+/* The rows forms (the batch calls' single rays). */
+#include "accel/rtree/trace/rtc_rows.h"
+RTC_DEFINE_ROWS(tt_rtc_stack_scalar_rows, tt_rtc_stack_scalar)
+RTC_DEFINE_ROWS(tt_rtc_stackless_scalar_rows, tt_rtc_stackless_scalar)

@@ -19,3 +19,7 @@
 #define TT_STATS 1
 #include "accel/stats_variant.h"
 #include "accel/rtree/trace/rtc_trace_stack.h"
+
+/* The rows form (the batch calls' single rays). */
+#include "accel/rtree/trace/rtc_rows.h"
+RTC_DEFINE_ROWS(tt_rtc_stack_sse42_rows, tt_rtc_stack_sse42)
