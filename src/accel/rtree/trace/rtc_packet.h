@@ -710,41 +710,60 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_trace))(const tt_rtc *t, const tt_pac
     }
 }
 
+/* Ray i of R by the unit's single-ray traversal (an octant of too few rays,
+ * a ray the packet cannot match: see tt_rtc_packet). */
+TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_single))(const tt_rtc *t, const tt_packet_rays *R,
+                                                    uint32_t i, int any, tt_hit *hits,
+                                                    uint8_t *occ, tt_packet_stats *stats)
+{
+    tt_hit h;
+    tt_wray w;
+    tt_packet_ray_wray(R, i, &w);
+#if TT_STATS
+    const uint64_t before = stats->rays.rays;
+    const int r = RTC_SINGLE_STATS(t, &w, any, &h, &stats->rays);
+    stats->rays.rays = before; /* counted once by the caller */
+    TT_COUNT(stats, fallback_rays, 1);
+#else
+    (void)stats;
+    const int r = RTC_SINGLE(t, &w, any, &h, NULL);
+#endif
+    if (any) occ[i] = (uint8_t)(r != 0);
+    else hits[i] = h;
+}
+
 /* The entry point: the rows of R (R->n <= TT_PACKET_MAX) split by octant,
  * each octant's rays a packet (or ray by ray when few); closest hits into
- * hits (any = 0) or occlusion bytes into occ (any = 1), by row. */
+ * hits (any = 0) or occlusion bytes into occ (any = 1), by row.
+ * A ray with a direction component of magnitude 2^126 or more goes ray by
+ * ray: its reciprocal and shear are subnormal, its triangle tests' t
+ * underflow (to 0 for many triangles at once) and its box entries lose
+ * their relative margin, so the box test stops being conservative and the
+ * answer depends on the order in which its boxes are visited, which the
+ * packet (near to far for the packet) cannot share with the single ray
+ * (near to far for the ray). Found with components of +-3e38 on bunny. */
 void TT_VARIANT(RTC_FN(tt_rtc_packet))(const tt_rtc *t, const tt_packet_rays *R, int any,
                                        tt_hit *hits, uint8_t *occ, tt_packet_stats *stats)
 {
     const uint32_t n = R->n;
     uint32_t idx[8][PK_N], cnt[8] = {0};
+    TT_COUNT(stats, rays.rays, n);
     for (uint32_t i = 0; i < n; i++) {
-        const uint32_t o = pk_sign(R->dir[0][i]) | pk_sign(R->dir[1][i]) << 1 |
-                           pk_sign(R->dir[2][i]) << 2;
+        const float dx = R->dir[0][i], dy = R->dir[1][i], dz = R->dir[2][i];
+        if ((fabsf(dx) >= 0x1p126f) | (fabsf(dy) >= 0x1p126f) | (fabsf(dz) >= 0x1p126f)) {
+            TT_VARIANT(RTC_FN(rtc_pk_single))(t, R, i, any, hits, occ, stats);
+            continue;
+        }
+        const uint32_t o = pk_sign(dx) | pk_sign(dy) << 1 | pk_sign(dz) << 2;
         idx[o][cnt[o]++] = i;
     }
-    TT_COUNT(stats, rays.rays, n);
     _Alignas(64) pk_rays P;
     for (uint32_t o = 0; o < 8; o++) {
         const uint32_t c = cnt[o];
         if (!c) continue;
         if (c < PK_MIN_RAYS) {
-            for (uint32_t j = 0; j < c; j++) {
-                const uint32_t i = idx[o][j];
-                tt_hit h;
-                tt_wray w;
-                tt_packet_ray_wray(R, i, &w);
-#if TT_STATS
-                const uint64_t before = stats->rays.rays;
-                const int r = RTC_SINGLE_STATS(t, &w, any, &h, &stats->rays);
-                stats->rays.rays = before; /* counted once above */
-                TT_COUNT(stats, fallback_rays, 1);
-#else
-                const int r = RTC_SINGLE(t, &w, any, &h, NULL);
-#endif
-                if (any) occ[i] = (uint8_t)(r != 0);
-                else hits[i] = h;
-            }
+            for (uint32_t j = 0; j < c; j++)
+                TT_VARIANT(RTC_FN(rtc_pk_single))(t, R, idx[o][j], any, hits, occ, stats);
             continue;
         }
         /* an octant of more than PK_CHUNK rays goes in equal runs */
