@@ -173,7 +173,8 @@ static inline uint32_t pk_popcount(uint32_t x) { return (uint32_t)__builtin_popc
  * a signed integer, so "id < the lane's id" as a signed compare is false
  * while the lane has no hit (its t is then tmax, an open bound). */
 TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_block))(pk_rays *P, const int any, uint32_t g,
-                                                   uint32_t m, const tt_tri_block *b)
+                                                   uint32_t m, const tt_tri_block *b,
+                                                   uint32_t tm)
 {
     const uint32_t base = g * PK_L;
     if (P->perm[g] < 0 || pk_popcount(m) <= PK_LEAF_SINGLE) {
@@ -202,8 +203,14 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_block))(pk_rays *P, const int any, ui
     const pk_v sx = PK_LOAD(P->sx + base), sy = PK_LOAD(P->sy + base), sz = PK_LOAD(P->sz + base);
     const pk_v tmin = PK_LOAD(P->tmin + base);
     const pk_v zero = PK_SET1(0.0f), one = PK_SET1(1.0f);
+    /* only the triangles of the leaves hit here (tm: lanes of real
+     * triangles; a pass costs the same for any number of lanes). The
+     * single-ray kernel tests the whole block, its neighbours' triangles
+     * too, at no cost; the answers agree: a ray's closest hit (and any hit
+     * in range) lies in a leaf whose box the ray's conservative test
+     * keeps, where both test it. */
     for (int i = 0; i < TT_TRI_BLOCK_W && m; i++) {
-        if (b->prim[i] == TT_INVALID_ID) continue;
+        if (!(tm >> i & 1u)) continue;
         const pk_v ax = PK_SUB(PK_SET1(b->v[kx][i]), ox), ay = PK_SUB(PK_SET1(b->v[ky][i]), oy),
                    az = PK_SUB(PK_SET1(b->v[kz][i]), oz);
         const pk_v bx = PK_SUB(PK_SET1(b->v[3 + kx][i]), ox),
@@ -453,7 +460,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                 const uint32_t base = tt_rtc_leaf_block(child[0]);
                 uint32_t blist[64], nb_list = 0; /* offsets < 64, as in the single-ray kernel */
                 uint32_t bm[64][PK_G];
-                uint32_t bg0[64], bg1[64];
+                uint32_t bg0[64], bg1[64], btm[64];
                 uint64_t seen = 0;
                 for (uint32_t j = 0; j < nh; j++) {
                     const uint32_t s = ord[j];
@@ -462,6 +469,9 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                     uint32_t nb;
                     (void)tt_rtc_leaf_blocks(t, ref, &nb);
                     const uint32_t off = tt_rtc_leaf_block(ref) - base;
+                    /* the leaf's triangle lanes from its first block on */
+                    const uint32_t lanes = ((1u << tt_rtc_leaf_count(ref)) - 1u)
+                                           << tt_rtc_leaf_lane(ref);
 #if TT_STATS
                     {
                         uint64_t act = 0;
@@ -478,8 +488,10 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                             for (uint32_t g = g0; g <= g1; g++) bm[k][g] = cm[s][g];
                             bg0[k] = g0;
                             bg1[k] = g1;
+                            btm[k] = lanes >> (q * TT_TRI_BLOCK_W) & 0xffu;
                             continue;
                         }
+                        btm[k] |= lanes >> (q * TT_TRI_BLOCK_W) & 0xffu;
                         /* widen the block's group range, zeroing what it
                          * gains, then add this leaf's rays */
                         for (uint32_t g = g0; g < bg0[k]; g++) bm[k][g] = 0;
@@ -497,7 +509,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                         if (any) m &= ~P->done[g];
                         if (!m) continue;
                         TT_COUNT(stats, rays.triangles, (uint64_t)TT_TRI_BLOCK_W * pk_popcount(m));
-                        TT_VARIANT(RTC_FN(rtc_pk_block))(P, any, g, m, b);
+                        TT_VARIANT(RTC_FN(rtc_pk_block))(P, any, g, m, b, btm[k]);
                     }
                 }
                 if (any) {
