@@ -163,6 +163,15 @@ typedef struct pk_entry {
 #define PK_STACK (TT_RTC_STACK_SIZE)
 
 static inline uint32_t pk_popcount(uint32_t x) { return (uint32_t)__builtin_popcount(x); }
+
+/* An occlusion packet (rtc_pk_walk_occ): groups, a group's lane bits, a
+ * waiting node with its rays. */
+#define PK_OG (32u / PK_L)
+#define PK_LANES ((uint32_t)((1ull << PK_L) - 1u))
+_Static_assert(PK_OCC_CHUNK <= 32u, "an occlusion packet's rays fit a 32-bit mask");
+typedef struct pk_oentry {
+    uint32_t node, level, m;
+} pk_oentry;
 #endif
 
 /* Block b's triangles against the rays of group g in lanes m (nonzero).
@@ -551,6 +560,160 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
     }
 }
 
+/* Occlusion packets are at most 32 rays (PK_OCC_CHUNK): their active rays
+ * fit one 32-bit mask, bit l for lane l (group g's lanes at g * PK_L), so
+ * the walk's bookkeeping is word operations: a node's live rays, a
+ * child's hit rays, a stack entry, a block's rays. The per-group arrays of
+ * rtc_pk_walk (copied, cleared and scanned a group at a time, with their
+ * first..last ranges) were as many instructions as the box tests. The
+ * tests themselves are rtc_pk_walk's lean ones (interval test, overlap
+ * against tcut, children by interval entry), so the same children are
+ * entered with the same rays. Needs finite reciprocals and S a multiple of
+ * PK_L (the interval test); rtc_pk_trace checks. */
+TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT t,
+                                                      const uint32_t S, pk_rays *P,
+                                                      tt_packet_stats *stats)
+{
+    pk_oentry stack[PK_STACK];
+    uint32_t sp = 0;
+    uint32_t node = 0, level = t->height, valid = 0;
+    for (uint32_t g = 0; g < P->groups; g++) valid |= P->valid[g] << (g * PK_L);
+    uint32_t m = valid, done = 0;
+    const pk_v c1 = PK_SET1(1.0f / 4194304.0f);
+    TT_VARIANT(RTC_FN(pk_consts)) A;
+    TT_VARIANT(RTC_FN(rtc_pk_consts))(P, S, &A);
+    (void)stats;
+    for (;;) {
+        /* rays answered since this entry was pushed drop out */
+        m &= ~done;
+        if (!m) goto pop;
+        {
+            const float *rec = tt_rtc_node(t, node);
+            const float *box = tt_rtc_boxes(rec); /* SoA rows, stride S */
+            const uint32_t *child = tt_rtc_child(t, rec);
+#if TT_STATS
+            {
+                const uint64_t act = pk_popcount(m);
+                TT_COUNT(stats, node_visits, 1);
+                TT_COUNT(stats, active_lanes, act);
+                TT_COUNT(stats, rays.nodes, act);
+                TT_COUNT(stats, rays.interior, act);
+                TT_COUNT(stats, rays.boxes, act * tt_rtc_count(t, rec));
+            }
+#endif
+            float tpk[TT_RT_MAX_M];
+            uint32_t cand =
+                tt_rtc_used(t, rec) & TT_VARIANT(RTC_FN(rtc_pk_interval))(&A, rec, S, tpk);
+            /* the hit children near to far by interval entry, their rays */
+            uint32_t nh = 0, hc[TT_RT_MAX_M], hm[TT_RT_MAX_M];
+            float ht[TT_RT_MAX_M];
+            while (cand) {
+                const uint32_t c = (uint32_t)__builtin_ctz(cand);
+                cand &= cand - 1;
+                const pk_v bnx = PK_SET1(box[A.nr[0] + c]), bny = PK_SET1(box[A.nr[1] + c]),
+                           bnz = PK_SET1(box[A.nr[2] + c]);
+                const pk_v bfx = PK_SET1(box[A.fr[0] + c]), bfy = PK_SET1(box[A.fr[1] + c]),
+                           bfz = PK_SET1(box[A.fr[2] + c]);
+                uint32_t h = 0;
+                for (uint32_t g = 0; g < PK_OG; g++) {
+                    const uint32_t mg = m >> (g * PK_L) & PK_LANES;
+                    if (!mg) continue;
+                    const uint32_t o = g * PK_L;
+                    const pk_v ox = PK_LOAD(P->ox + o), oy = PK_LOAD(P->oy + o),
+                               oz = PK_LOAD(P->oz + o);
+                    const pk_v ix = PK_LOAD(P->rx + o), iy = PK_LOAD(P->ry + o),
+                               iz = PK_LOAD(P->rz + o);
+                    const pk_v tnx = PK_MUL(PK_SUB(bnx, ox), ix);
+                    const pk_v tny = PK_MUL(PK_SUB(bny, oy), iy);
+                    const pk_v tnz = PK_MUL(PK_SUB(bnz, oz), iz);
+                    const pk_v tfx = PK_MUL(PK_SUB(bfx, ox), ix);
+                    const pk_v tfy = PK_MUL(PK_SUB(bfy, oy), iy);
+                    const pk_v tfz = PK_MUL(PK_SUB(bfz, oz), iz);
+                    const pk_v tn =
+                        PK_MAX(tnz, PK_MAX(tny, PK_MAX(tnx, PK_LOAD(P->tmin + o))));
+                    const pk_v tc =
+                        PK_MIN(tfz, PK_MIN(tfy, PK_MIN(tfx, PK_LOAD(P->tcut + o))));
+                    const pk_v tfc = PK_ADD(tc, PK_MUL(PK_ABS(tc), c1));
+                    h |= (PK_BITS(PK_CMP_LE(tn, tfc)) & mg) << o;
+                }
+                if (!h) continue;
+                const float te = tpk[c];
+                uint32_t j = nh++;
+                while (j > 0 && ht[j - 1] > te) {
+                    ht[j] = ht[j - 1];
+                    hc[j] = hc[j - 1];
+                    hm[j] = hm[j - 1];
+                    j--;
+                }
+                ht[j] = te;
+                hc[j] = c;
+                hm[j] = h;
+            }
+            if (!nh) goto pop;
+            if (level == 1) {
+                /* each block of this node's hit leaves once, for all their
+                 * rays, with the triangles of those leaves (as rtc_pk_walk) */
+                const uint32_t base = tt_rtc_leaf_block(child[0]);
+                uint32_t blist[64], nbl = 0, bmk[64], btm[64];
+                uint64_t seen = 0;
+                for (uint32_t j = 0; j < nh; j++) {
+                    const uint32_t ref = child[hc[j]];
+                    uint32_t nb;
+                    (void)tt_rtc_leaf_blocks(t, ref, &nb);
+                    const uint32_t off = tt_rtc_leaf_block(ref) - base;
+                    const uint32_t lanes = ((1u << tt_rtc_leaf_count(ref)) - 1u)
+                                           << tt_rtc_leaf_lane(ref);
+                    TT_COUNT(stats, rays.nodes, pk_popcount(hm[j]));
+                    TT_COUNT(stats, rays.leaves, pk_popcount(hm[j]));
+                    for (uint32_t q = 0; q < nb; q++) {
+                        const uint32_t k = off + q;
+                        const uint32_t tl = lanes >> (q * TT_TRI_BLOCK_W) & 0xffu;
+                        if (!(seen >> k & 1u)) {
+                            seen |= (uint64_t)1 << k;
+                            blist[nbl++] = k;
+                            bmk[k] = hm[j];
+                            btm[k] = tl;
+                        } else {
+                            bmk[k] |= hm[j];
+                            btm[k] |= tl;
+                        }
+                    }
+                }
+                for (uint32_t j = 0; j < nbl; j++) {
+                    const uint32_t k = blist[j];
+                    const tt_tri_block *b = t->block + base + k;
+                    const uint32_t bm = bmk[k] & ~done;
+                    for (uint32_t g = 0; g < PK_OG; g++) {
+                        const uint32_t mg = bm >> (g * PK_L) & PK_LANES;
+                        if (!mg) continue;
+                        TT_COUNT(stats, rays.triangles, (uint64_t)TT_TRI_BLOCK_W * pk_popcount(mg));
+                        TT_VARIANT(RTC_FN(rtc_pk_block))(P, 1, g, mg, b, btm[k]);
+                        done |= P->done[g] << (g * PK_L);
+                    }
+                }
+                if (!(valid & ~done)) return;
+                goto pop;
+            }
+            for (uint32_t j = nh - 1; j > 0; j--) {
+                pk_oentry *e = &stack[sp++];
+                e->node = child[hc[j]];
+                e->level = level - 1;
+                e->m = hm[j];
+            }
+            node = child[hc[0]];
+            level--;
+            m = hm[0];
+            continue;
+        }
+    pop:
+        if (!sp) return;
+        sp--;
+        node = stack[sp].node;
+        level = stack[sp].level;
+        m = stack[sp].m;
+    }
+}
+
 /* Loads the rows idx[0..n) of R (one octant) into P and prepares them a
  * group at a time: reciprocals, the watertight test's shear (tt_wray_init's
  * fields from its IEEE operations: 1 / d, d[kx] / d[kz], so bit for bit)
@@ -694,7 +857,13 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_trace))(const tt_rtc *t, const tt_pac
 {
     TT_COUNT(stats, packets, 1);
     TT_VARIANT(RTC_FN(rtc_pk_load))(P, rays, ix, c);
-    switch (t->S) {
+    if (any && P->ia && t->S % PK_L == 0 && c <= 32u) {
+        switch (t->S) {
+        case 16: TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(t, 16, P, stats); break;
+        case 8: TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(t, 8, P, stats); break;
+        default: TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(t, t->S, P, stats); break;
+        }
+    } else switch (t->S) {
     case 16:
         if (any) TT_VARIANT(RTC_FN(rtc_pk_walk))(t, 16, 1, P, stats);
         else TT_VARIANT(RTC_FN(rtc_pk_walk))(t, 16, 0, P, stats);
