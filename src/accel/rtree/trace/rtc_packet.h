@@ -877,6 +877,22 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_trace))(const tt_rtc *t, const tt_pac
         else TT_VARIANT(RTC_FN(rtc_pk_walk))(t, t->S, 0, P, stats);
         break;
     }
+    if (any && ix[c - 1] - ix[0] == c - 1) {
+        /* consecutive rows: the answer bits 4 at a time into bytes (each
+         * bit i of a nibble lands alone on bit 8 i of the product) */
+        uint8_t *out = occ + ix[0];
+        uint32_t j = 0;
+        for (; j + 4 <= c; j += 4) {
+            const uint32_t q = P->done[j / PK_L] >> (j % PK_L) & 15u;
+            const uint32_t bytes = (q * 0x00204081u) & 0x01010101u;
+            out[j] = (uint8_t)bytes;
+            out[j + 1] = (uint8_t)(bytes >> 8);
+            out[j + 2] = (uint8_t)(bytes >> 16);
+            out[j + 3] = (uint8_t)(bytes >> 24);
+        }
+        for (; j < c; j++) out[j] = (uint8_t)(P->done[j / PK_L] >> (j % PK_L) & 1u);
+        return;
+    }
     for (uint32_t j = 0; j < c; j++) {
         const uint32_t i = ix[j];
         if (any) {
@@ -929,7 +945,28 @@ void TT_VARIANT(RTC_FN(tt_rtc_packet))(const tt_rtc *t, const tt_packet_rays *R,
     const uint32_t n = R->n;
     uint32_t idx[8][PK_N], cnt[8] = {0};
     TT_COUNT(stats, rays.rays, n);
-    for (uint32_t i = 0; i < n; i++) {
+    /* a vector of rays at a time: one octant, no zero component, nothing
+     * huge (the usual case) appends its rows whole */
+    const pk_v zero = PK_SET1(0.0f), huge = PK_SET1(0x1p126f);
+    uint32_t i = 0;
+    for (; i + PK_L <= n; i += PK_L) {
+        const pk_v dx = PK_LOAD(R->dir[0] + i), dy = PK_LOAD(R->dir[1] + i),
+                   dz = PK_LOAD(R->dir[2] + i);
+        const uint32_t nx = PK_BITS(PK_CMP_LT(dx, zero)), ny = PK_BITS(PK_CMP_LT(dy, zero)),
+                       nz = PK_BITS(PK_CMP_LT(dz, zero));
+        const uint32_t odd =
+            PK_BITS(PK_MOR(PK_MOR(PK_CMP_EQ(dx, zero), PK_CMP_EQ(dy, zero)),
+                           PK_MOR(PK_MOR(PK_CMP_EQ(dz, zero), PK_CMP_GE(PK_ABS(dx), huge)),
+                                  PK_MOR(PK_CMP_GE(PK_ABS(dy), huge),
+                                         PK_CMP_GE(PK_ABS(dz), huge)))));
+        if (odd || ((nx + 1u) & PK_LANES) > 1u || ((ny + 1u) & PK_LANES) > 1u ||
+            ((nz + 1u) & PK_LANES) > 1u)
+            break;
+        const uint32_t o = (nx & 1u) | (ny & 1u) << 1 | (nz & 1u) << 2;
+        for (uint32_t l = 0; l < PK_L; l++) idx[o][cnt[o] + l] = i + l;
+        cnt[o] += PK_L;
+    }
+    for (; i < n; i++) {
         const float dx = R->dir[0][i], dy = R->dir[1][i], dz = R->dir[2][i];
         if ((fabsf(dx) >= 0x1p126f) | (fabsf(dy) >= 0x1p126f) | (fabsf(dz) >= 0x1p126f)) {
             TT_VARIANT(RTC_FN(rtc_pk_single))(t, R, i, any, hits, occ, stats);
