@@ -27,7 +27,8 @@
  *    closest hit so far. The hit children are entered near to far by their
  *    nearest ray's entry distance.
  *  - Leaves: a block of 8 triangles is tested against the rays of a group
- *    SIMD across rays, triangle by triangle in lane order, with
+ *    SIMD across rays, triangle by triangle in lane order (only the
+ *    triangles of the leaves hit on it, rtc_pk_block), with
  *    tt_intersect_triangle's float operations in its order; a lane with a
  *    zero edge function is recomputed by tt_intersect_triangle itself, and
  *    a group whose rays do not share the shear's axis permutation is tested
@@ -40,7 +41,8 @@
  *    triangle whatever the lanes.
  *  - Occlusion packets are runs of at most PK_OCC_CHUNK consecutive rays of
  *    an octant: shadow rays come in image order, and a shorter run's
- *    origins bound more tightly, so the interval test culls more.
+ *    origins bound more tightly, so the interval test culls more; their
+ *    active rays fit one 32-bit mask (rtc_pk_walk_occ).
  *
  * The including unit defines PK_L, the vector macros PK_* (see
  * rtc_packet_avx512.c), RTC_ISA, RTC_BLOCKS_INTERSECT / _OCCLUDED (the
@@ -64,7 +66,9 @@
  * kernel: its 8 triangles at once) when at most this many of the group's
  * lanes are active: the packet's block test costs a pass per triangle
  * whatever the number of lanes. 6 of 16 lanes measured best (4 and 8 were
- * a few % slower; 2026-12-02, sibenik and bunny, rpacket note). */
+ * a few % slower; 2026-12-02, sibenik and bunny, rpacket note). With fewer
+ * triangles to test (the hit leaves' share of the block) the limit shrinks
+ * in proportion: lanes * 8 <= triangles * PK_LEAF_SINGLE. */
 #ifndef PK_LEAF_SINGLE
 #define PK_LEAF_SINGLE (PK_L * 3u / 8u)
 #endif
@@ -186,7 +190,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_block))(pk_rays *P, const int any, ui
                                                    uint32_t tm)
 {
     const uint32_t base = g * PK_L;
-    if (P->perm[g] < 0 || pk_popcount(m) <= PK_LEAF_SINGLE) {
+    if (P->perm[g] < 0 || pk_popcount(m) * TT_TRI_BLOCK_W <= pk_popcount(tm) * PK_LEAF_SINGLE) {
         /* the rays of this group shear differently: one by one with the
          * single-ray kernel */
         while (m) {
