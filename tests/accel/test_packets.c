@@ -277,17 +277,18 @@ static tt_ray *hostile_rays(const tt_scene *scene, const tt_camera *cam, int den
         case 5: /* inside the scene, directions with extreme components (the
                  * packet kernels' own reciprocals and shear: zero and
                  * negative-zero, tiny below tt_safe_inv's limit, huge, ties
-                 * between the largest components). Not here yet: denormal
-                 * components (1e-40) crash the R-tree's single-ray stack
-                 * walk on bunny:main, and +-3e38 gives a denormal t where
-                 * the packet's triangle test and the single ray's differ;
-                 * both on main 6600cee too (pkprep note, 2026-12-03). */
+                 * between the largest components, subnormal ones whose
+                 * reciprocals overflow, and +-3e38, whose reciprocals and
+                 * shear are subnormal: their t underflow to 0 and their
+                 * box tests lose the margin, so the R-tree's packets
+                 * trace such rays one by one, rtc_packet.h). */
             for (int k = 0; k < 3; k++) {
                 static const float special[] = {0.0f,   -0.0f,  1.0f,   -1.0f, 1e-31f, -1e-31f,
-                                                1e-35f, -1e-35f, 3e18f, -3e18f, 0.5f,  -0.5f};
+                                                1e-35f, -1e-35f, 3e18f, -3e18f, 0.5f,  -0.5f,
+                                                1e-40f, -1e-40f, 3e38f, -3e38f};
                 const uint32_t u = next(&seed);
                 r->org[k] = lo[k] + (hi[k] - lo[k]) * (0.3f + 0.4f * unit(&seed));
-                r->dir[k] = u % 3u == 0 ? special[(u >> 8) % 12u] : 2.0f * unit(&seed) - 1.0f;
+                r->dir[k] = u % 3u == 0 ? special[(u >> 8) % 16u] : 2.0f * unit(&seed) - 1.0f;
             }
             if (r->dir[0] == 0.0f && r->dir[1] == 0.0f && r->dir[2] == 0.0f) r->dir[2] = 1.0f;
             break;

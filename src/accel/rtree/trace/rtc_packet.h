@@ -27,7 +27,8 @@
  *    closest hit so far. The hit children are entered near to far by their
  *    nearest ray's entry distance.
  *  - Leaves: a block of 8 triangles is tested against the rays of a group
- *    SIMD across rays, triangle by triangle in lane order, with
+ *    SIMD across rays, triangle by triangle in lane order (only the
+ *    triangles of the leaves hit on it, rtc_pk_block), with
  *    tt_intersect_triangle's float operations in its order; a lane with a
  *    zero edge function is recomputed by tt_intersect_triangle itself, and
  *    a group whose rays do not share the shear's axis permutation is tested
@@ -40,7 +41,8 @@
  *    triangle whatever the lanes.
  *  - Occlusion packets are runs of at most PK_OCC_CHUNK consecutive rays of
  *    an octant: shadow rays come in image order, and a shorter run's
- *    origins bound more tightly, so the interval test culls more.
+ *    origins bound more tightly, so the interval test culls more; their
+ *    active rays fit one 32-bit mask (rtc_pk_walk_occ).
  *
  * The including unit defines PK_L, the vector macros PK_* (see
  * rtc_packet_avx512.c), RTC_ISA, RTC_BLOCKS_INTERSECT / _OCCLUDED (the
@@ -64,7 +66,9 @@
  * kernel: its 8 triangles at once) when at most this many of the group's
  * lanes are active: the packet's block test costs a pass per triangle
  * whatever the number of lanes. 6 of 16 lanes measured best (4 and 8 were
- * a few % slower; 2026-12-02, sibenik and bunny, rpacket note). */
+ * a few % slower; 2026-12-02, sibenik and bunny, rpacket note). With fewer
+ * triangles to test (the hit leaves' share of the block) the limit shrinks
+ * in proportion: lanes * 8 <= triangles * PK_LEAF_SINGLE. */
 #ifndef PK_LEAF_SINGLE
 #define PK_LEAF_SINGLE (PK_L * 3u / 8u)
 #endif
@@ -163,6 +167,15 @@ typedef struct pk_entry {
 #define PK_STACK (TT_RTC_STACK_SIZE)
 
 static inline uint32_t pk_popcount(uint32_t x) { return (uint32_t)__builtin_popcount(x); }
+
+/* An occlusion packet (rtc_pk_walk_occ): groups, a group's lane bits, a
+ * waiting node with its rays. */
+#define PK_OG (32u / PK_L)
+#define PK_LANES ((uint32_t)((1ull << PK_L) - 1u))
+_Static_assert(PK_OCC_CHUNK <= 32u, "an occlusion packet's rays fit a 32-bit mask");
+typedef struct pk_oentry {
+    uint32_t node, level, m;
+} pk_oentry;
 #endif
 
 /* Block b's triangles against the rays of group g in lanes m (nonzero).
@@ -173,10 +186,11 @@ static inline uint32_t pk_popcount(uint32_t x) { return (uint32_t)__builtin_popc
  * a signed integer, so "id < the lane's id" as a signed compare is false
  * while the lane has no hit (its t is then tmax, an open bound). */
 TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_block))(pk_rays *P, const int any, uint32_t g,
-                                                   uint32_t m, const tt_tri_block *b)
+                                                   uint32_t m, const tt_tri_block *b,
+                                                   uint32_t tm)
 {
     const uint32_t base = g * PK_L;
-    if (P->perm[g] < 0 || pk_popcount(m) <= PK_LEAF_SINGLE) {
+    if (P->perm[g] < 0 || pk_popcount(m) * TT_TRI_BLOCK_W <= pk_popcount(tm) * PK_LEAF_SINGLE) {
         /* the rays of this group shear differently: one by one with the
          * single-ray kernel */
         while (m) {
@@ -202,8 +216,14 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_block))(pk_rays *P, const int any, ui
     const pk_v sx = PK_LOAD(P->sx + base), sy = PK_LOAD(P->sy + base), sz = PK_LOAD(P->sz + base);
     const pk_v tmin = PK_LOAD(P->tmin + base);
     const pk_v zero = PK_SET1(0.0f), one = PK_SET1(1.0f);
+    /* only the triangles of the leaves hit here (tm: lanes of real
+     * triangles; a pass costs the same for any number of lanes). The
+     * single-ray kernel tests the whole block, its neighbours' triangles
+     * too, at no cost; the answers agree: a ray's closest hit (and any hit
+     * in range) lies in a leaf whose box the ray's conservative test
+     * keeps, where both test it. */
     for (int i = 0; i < TT_TRI_BLOCK_W && m; i++) {
-        if (b->prim[i] == TT_INVALID_ID) continue;
+        if (!(tm >> i & 1u)) continue;
         const pk_v ax = PK_SUB(PK_SET1(b->v[kx][i]), ox), ay = PK_SUB(PK_SET1(b->v[ky][i]), oy),
                    az = PK_SUB(PK_SET1(b->v[kz][i]), oz);
         const pk_v bx = PK_SUB(PK_SET1(b->v[3 + kx][i]), ox),
@@ -453,7 +473,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                 const uint32_t base = tt_rtc_leaf_block(child[0]);
                 uint32_t blist[64], nb_list = 0; /* offsets < 64, as in the single-ray kernel */
                 uint32_t bm[64][PK_G];
-                uint32_t bg0[64], bg1[64];
+                uint32_t bg0[64], bg1[64], btm[64];
                 uint64_t seen = 0;
                 for (uint32_t j = 0; j < nh; j++) {
                     const uint32_t s = ord[j];
@@ -462,6 +482,9 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                     uint32_t nb;
                     (void)tt_rtc_leaf_blocks(t, ref, &nb);
                     const uint32_t off = tt_rtc_leaf_block(ref) - base;
+                    /* the leaf's triangle lanes from its first block on */
+                    const uint32_t lanes = ((1u << tt_rtc_leaf_count(ref)) - 1u)
+                                           << tt_rtc_leaf_lane(ref);
 #if TT_STATS
                     {
                         uint64_t act = 0;
@@ -478,8 +501,10 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                             for (uint32_t g = g0; g <= g1; g++) bm[k][g] = cm[s][g];
                             bg0[k] = g0;
                             bg1[k] = g1;
+                            btm[k] = lanes >> (q * TT_TRI_BLOCK_W) & 0xffu;
                             continue;
                         }
+                        btm[k] |= lanes >> (q * TT_TRI_BLOCK_W) & 0xffu;
                         /* widen the block's group range, zeroing what it
                          * gains, then add this leaf's rays */
                         for (uint32_t g = g0; g < bg0[k]; g++) bm[k][g] = 0;
@@ -497,7 +522,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                         if (any) m &= ~P->done[g];
                         if (!m) continue;
                         TT_COUNT(stats, rays.triangles, (uint64_t)TT_TRI_BLOCK_W * pk_popcount(m));
-                        TT_VARIANT(RTC_FN(rtc_pk_block))(P, any, g, m, b);
+                        TT_VARIANT(RTC_FN(rtc_pk_block))(P, any, g, m, b, btm[k]);
                     }
                 }
                 if (any) {
@@ -536,6 +561,160 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
             cur.g1 = e->g1;
             for (uint32_t g = e->g0; g <= e->g1; g++) cur.m[g] = e->m[g];
         }
+    }
+}
+
+/* Occlusion packets are at most 32 rays (PK_OCC_CHUNK): their active rays
+ * fit one 32-bit mask, bit l for lane l (group g's lanes at g * PK_L), so
+ * the walk's bookkeeping is word operations: a node's live rays, a
+ * child's hit rays, a stack entry, a block's rays. The per-group arrays of
+ * rtc_pk_walk (copied, cleared and scanned a group at a time, with their
+ * first..last ranges) were as many instructions as the box tests. The
+ * tests themselves are rtc_pk_walk's lean ones (interval test, overlap
+ * against tcut, children by interval entry), so the same children are
+ * entered with the same rays. Needs finite reciprocals and S a multiple of
+ * PK_L (the interval test); rtc_pk_trace checks. */
+TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT t,
+                                                      const uint32_t S, pk_rays *P,
+                                                      tt_packet_stats *stats)
+{
+    pk_oentry stack[PK_STACK];
+    uint32_t sp = 0;
+    uint32_t node = 0, level = t->height, valid = 0;
+    for (uint32_t g = 0; g < P->groups; g++) valid |= P->valid[g] << (g * PK_L);
+    uint32_t m = valid, done = 0;
+    const pk_v c1 = PK_SET1(1.0f / 4194304.0f);
+    TT_VARIANT(RTC_FN(pk_consts)) A;
+    TT_VARIANT(RTC_FN(rtc_pk_consts))(P, S, &A);
+    (void)stats;
+    for (;;) {
+        /* rays answered since this entry was pushed drop out */
+        m &= ~done;
+        if (!m) goto pop;
+        {
+            const float *rec = tt_rtc_node(t, node);
+            const float *box = tt_rtc_boxes(rec); /* SoA rows, stride S */
+            const uint32_t *child = tt_rtc_child(t, rec);
+#if TT_STATS
+            {
+                const uint64_t act = pk_popcount(m);
+                TT_COUNT(stats, node_visits, 1);
+                TT_COUNT(stats, active_lanes, act);
+                TT_COUNT(stats, rays.nodes, act);
+                TT_COUNT(stats, rays.interior, act);
+                TT_COUNT(stats, rays.boxes, act * tt_rtc_count(t, rec));
+            }
+#endif
+            float tpk[TT_RT_MAX_M];
+            uint32_t cand =
+                tt_rtc_used(t, rec) & TT_VARIANT(RTC_FN(rtc_pk_interval))(&A, rec, S, tpk);
+            /* the hit children near to far by interval entry, their rays */
+            uint32_t nh = 0, hc[TT_RT_MAX_M], hm[TT_RT_MAX_M];
+            float ht[TT_RT_MAX_M];
+            while (cand) {
+                const uint32_t c = (uint32_t)__builtin_ctz(cand);
+                cand &= cand - 1;
+                const pk_v bnx = PK_SET1(box[A.nr[0] + c]), bny = PK_SET1(box[A.nr[1] + c]),
+                           bnz = PK_SET1(box[A.nr[2] + c]);
+                const pk_v bfx = PK_SET1(box[A.fr[0] + c]), bfy = PK_SET1(box[A.fr[1] + c]),
+                           bfz = PK_SET1(box[A.fr[2] + c]);
+                uint32_t h = 0;
+                for (uint32_t g = 0; g < PK_OG; g++) {
+                    const uint32_t mg = m >> (g * PK_L) & PK_LANES;
+                    if (!mg) continue;
+                    const uint32_t o = g * PK_L;
+                    const pk_v ox = PK_LOAD(P->ox + o), oy = PK_LOAD(P->oy + o),
+                               oz = PK_LOAD(P->oz + o);
+                    const pk_v ix = PK_LOAD(P->rx + o), iy = PK_LOAD(P->ry + o),
+                               iz = PK_LOAD(P->rz + o);
+                    const pk_v tnx = PK_MUL(PK_SUB(bnx, ox), ix);
+                    const pk_v tny = PK_MUL(PK_SUB(bny, oy), iy);
+                    const pk_v tnz = PK_MUL(PK_SUB(bnz, oz), iz);
+                    const pk_v tfx = PK_MUL(PK_SUB(bfx, ox), ix);
+                    const pk_v tfy = PK_MUL(PK_SUB(bfy, oy), iy);
+                    const pk_v tfz = PK_MUL(PK_SUB(bfz, oz), iz);
+                    const pk_v tn =
+                        PK_MAX(tnz, PK_MAX(tny, PK_MAX(tnx, PK_LOAD(P->tmin + o))));
+                    const pk_v tc =
+                        PK_MIN(tfz, PK_MIN(tfy, PK_MIN(tfx, PK_LOAD(P->tcut + o))));
+                    const pk_v tfc = PK_ADD(tc, PK_MUL(PK_ABS(tc), c1));
+                    h |= (PK_BITS(PK_CMP_LE(tn, tfc)) & mg) << o;
+                }
+                if (!h) continue;
+                const float te = tpk[c];
+                uint32_t j = nh++;
+                while (j > 0 && ht[j - 1] > te) {
+                    ht[j] = ht[j - 1];
+                    hc[j] = hc[j - 1];
+                    hm[j] = hm[j - 1];
+                    j--;
+                }
+                ht[j] = te;
+                hc[j] = c;
+                hm[j] = h;
+            }
+            if (!nh) goto pop;
+            if (level == 1) {
+                /* each block of this node's hit leaves once, for all their
+                 * rays, with the triangles of those leaves (as rtc_pk_walk) */
+                const uint32_t base = tt_rtc_leaf_block(child[0]);
+                uint32_t blist[64], nbl = 0, bmk[64], btm[64];
+                uint64_t seen = 0;
+                for (uint32_t j = 0; j < nh; j++) {
+                    const uint32_t ref = child[hc[j]];
+                    uint32_t nb;
+                    (void)tt_rtc_leaf_blocks(t, ref, &nb);
+                    const uint32_t off = tt_rtc_leaf_block(ref) - base;
+                    const uint32_t lanes = ((1u << tt_rtc_leaf_count(ref)) - 1u)
+                                           << tt_rtc_leaf_lane(ref);
+                    TT_COUNT(stats, rays.nodes, pk_popcount(hm[j]));
+                    TT_COUNT(stats, rays.leaves, pk_popcount(hm[j]));
+                    for (uint32_t q = 0; q < nb; q++) {
+                        const uint32_t k = off + q;
+                        const uint32_t tl = lanes >> (q * TT_TRI_BLOCK_W) & 0xffu;
+                        if (!(seen >> k & 1u)) {
+                            seen |= (uint64_t)1 << k;
+                            blist[nbl++] = k;
+                            bmk[k] = hm[j];
+                            btm[k] = tl;
+                        } else {
+                            bmk[k] |= hm[j];
+                            btm[k] |= tl;
+                        }
+                    }
+                }
+                for (uint32_t j = 0; j < nbl; j++) {
+                    const uint32_t k = blist[j];
+                    const tt_tri_block *b = t->block + base + k;
+                    const uint32_t bm = bmk[k] & ~done;
+                    for (uint32_t g = 0; g < PK_OG; g++) {
+                        const uint32_t mg = bm >> (g * PK_L) & PK_LANES;
+                        if (!mg) continue;
+                        TT_COUNT(stats, rays.triangles, (uint64_t)TT_TRI_BLOCK_W * pk_popcount(mg));
+                        TT_VARIANT(RTC_FN(rtc_pk_block))(P, 1, g, mg, b, btm[k]);
+                        done |= P->done[g] << (g * PK_L);
+                    }
+                }
+                if (!(valid & ~done)) return;
+                goto pop;
+            }
+            for (uint32_t j = nh - 1; j > 0; j--) {
+                pk_oentry *e = &stack[sp++];
+                e->node = child[hc[j]];
+                e->level = level - 1;
+                e->m = hm[j];
+            }
+            node = child[hc[0]];
+            level--;
+            m = hm[0];
+            continue;
+        }
+    pop:
+        if (!sp) return;
+        sp--;
+        node = stack[sp].node;
+        level = stack[sp].level;
+        m = stack[sp].m;
     }
 }
 
@@ -682,7 +861,13 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_trace))(const tt_rtc *t, const tt_pac
 {
     TT_COUNT(stats, packets, 1);
     TT_VARIANT(RTC_FN(rtc_pk_load))(P, rays, ix, c);
-    switch (t->S) {
+    if (any && P->ia && t->S % PK_L == 0 && c <= 32u) {
+        switch (t->S) {
+        case 16: TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(t, 16, P, stats); break;
+        case 8: TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(t, 8, P, stats); break;
+        default: TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(t, t->S, P, stats); break;
+        }
+    } else switch (t->S) {
     case 16:
         if (any) TT_VARIANT(RTC_FN(rtc_pk_walk))(t, 16, 1, P, stats);
         else TT_VARIANT(RTC_FN(rtc_pk_walk))(t, 16, 0, P, stats);
@@ -695,6 +880,22 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_trace))(const tt_rtc *t, const tt_pac
         if (any) TT_VARIANT(RTC_FN(rtc_pk_walk))(t, t->S, 1, P, stats);
         else TT_VARIANT(RTC_FN(rtc_pk_walk))(t, t->S, 0, P, stats);
         break;
+    }
+    if (any && ix[c - 1] - ix[0] == c - 1) {
+        /* consecutive rows: the answer bits 4 at a time into bytes (each
+         * bit i of a nibble lands alone on bit 8 i of the product) */
+        uint8_t *out = occ + ix[0];
+        uint32_t j = 0;
+        for (; j + 4 <= c; j += 4) {
+            const uint32_t q = P->done[j / PK_L] >> (j % PK_L) & 15u;
+            const uint32_t bytes = (q * 0x00204081u) & 0x01010101u;
+            out[j] = (uint8_t)bytes;
+            out[j + 1] = (uint8_t)(bytes >> 8);
+            out[j + 2] = (uint8_t)(bytes >> 16);
+            out[j + 3] = (uint8_t)(bytes >> 24);
+        }
+        for (; j < c; j++) out[j] = (uint8_t)(P->done[j / PK_L] >> (j % PK_L) & 1u);
+        return;
     }
     for (uint32_t j = 0; j < c; j++) {
         const uint32_t i = ix[j];
@@ -710,41 +911,81 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_trace))(const tt_rtc *t, const tt_pac
     }
 }
 
+/* Ray i of R by the unit's single-ray traversal (an octant of too few rays,
+ * a ray the packet cannot match: see tt_rtc_packet). */
+TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_single))(const tt_rtc *t, const tt_packet_rays *R,
+                                                    uint32_t i, int any, tt_hit *hits,
+                                                    uint8_t *occ, tt_packet_stats *stats)
+{
+    tt_hit h;
+    tt_wray w;
+    tt_packet_ray_wray(R, i, &w);
+#if TT_STATS
+    const uint64_t before = stats->rays.rays;
+    const int r = RTC_SINGLE_STATS(t, &w, any, &h, &stats->rays);
+    stats->rays.rays = before; /* counted once by the caller */
+    TT_COUNT(stats, fallback_rays, 1);
+#else
+    (void)stats;
+    const int r = RTC_SINGLE(t, &w, any, &h, NULL);
+#endif
+    if (any) occ[i] = (uint8_t)(r != 0);
+    else hits[i] = h;
+}
+
 /* The entry point: the rows of R (R->n <= TT_PACKET_MAX) split by octant,
  * each octant's rays a packet (or ray by ray when few); closest hits into
- * hits (any = 0) or occlusion bytes into occ (any = 1), by row. */
+ * hits (any = 0) or occlusion bytes into occ (any = 1), by row.
+ * A ray with a direction component of magnitude 2^126 or more goes ray by
+ * ray: its reciprocal and shear are subnormal, its triangle tests' t
+ * underflow (to 0 for many triangles at once) and its box entries lose
+ * their relative margin, so the box test stops being conservative and the
+ * answer depends on the order in which its boxes are visited, which the
+ * packet (near to far for the packet) cannot share with the single ray
+ * (near to far for the ray). Found with components of +-3e38 on bunny. */
 void TT_VARIANT(RTC_FN(tt_rtc_packet))(const tt_rtc *t, const tt_packet_rays *R, int any,
                                        tt_hit *hits, uint8_t *occ, tt_packet_stats *stats)
 {
     const uint32_t n = R->n;
     uint32_t idx[8][PK_N], cnt[8] = {0};
-    for (uint32_t i = 0; i < n; i++) {
-        const uint32_t o = pk_sign(R->dir[0][i]) | pk_sign(R->dir[1][i]) << 1 |
-                           pk_sign(R->dir[2][i]) << 2;
+    TT_COUNT(stats, rays.rays, n);
+    /* a vector of rays at a time: one octant, no zero component, nothing
+     * huge (the usual case) appends its rows whole */
+    const pk_v zero = PK_SET1(0.0f), huge = PK_SET1(0x1p126f);
+    uint32_t i = 0;
+    for (; i + PK_L <= n; i += PK_L) {
+        const pk_v dx = PK_LOAD(R->dir[0] + i), dy = PK_LOAD(R->dir[1] + i),
+                   dz = PK_LOAD(R->dir[2] + i);
+        const uint32_t nx = PK_BITS(PK_CMP_LT(dx, zero)), ny = PK_BITS(PK_CMP_LT(dy, zero)),
+                       nz = PK_BITS(PK_CMP_LT(dz, zero));
+        const uint32_t odd =
+            PK_BITS(PK_MOR(PK_MOR(PK_CMP_EQ(dx, zero), PK_CMP_EQ(dy, zero)),
+                           PK_MOR(PK_MOR(PK_CMP_EQ(dz, zero), PK_CMP_GE(PK_ABS(dx), huge)),
+                                  PK_MOR(PK_CMP_GE(PK_ABS(dy), huge),
+                                         PK_CMP_GE(PK_ABS(dz), huge)))));
+        if (odd || ((nx + 1u) & PK_LANES) > 1u || ((ny + 1u) & PK_LANES) > 1u ||
+            ((nz + 1u) & PK_LANES) > 1u)
+            break;
+        const uint32_t o = (nx & 1u) | (ny & 1u) << 1 | (nz & 1u) << 2;
+        for (uint32_t l = 0; l < PK_L; l++) idx[o][cnt[o] + l] = i + l;
+        cnt[o] += PK_L;
+    }
+    for (; i < n; i++) {
+        const float dx = R->dir[0][i], dy = R->dir[1][i], dz = R->dir[2][i];
+        if ((fabsf(dx) >= 0x1p126f) | (fabsf(dy) >= 0x1p126f) | (fabsf(dz) >= 0x1p126f)) {
+            TT_VARIANT(RTC_FN(rtc_pk_single))(t, R, i, any, hits, occ, stats);
+            continue;
+        }
+        const uint32_t o = pk_sign(dx) | pk_sign(dy) << 1 | pk_sign(dz) << 2;
         idx[o][cnt[o]++] = i;
     }
-    TT_COUNT(stats, rays.rays, n);
     _Alignas(64) pk_rays P;
     for (uint32_t o = 0; o < 8; o++) {
         const uint32_t c = cnt[o];
         if (!c) continue;
         if (c < PK_MIN_RAYS) {
-            for (uint32_t j = 0; j < c; j++) {
-                const uint32_t i = idx[o][j];
-                tt_hit h;
-                tt_wray w;
-                tt_packet_ray_wray(R, i, &w);
-#if TT_STATS
-                const uint64_t before = stats->rays.rays;
-                const int r = RTC_SINGLE_STATS(t, &w, any, &h, &stats->rays);
-                stats->rays.rays = before; /* counted once above */
-                TT_COUNT(stats, fallback_rays, 1);
-#else
-                const int r = RTC_SINGLE(t, &w, any, &h, NULL);
-#endif
-                if (any) occ[i] = (uint8_t)(r != 0);
-                else hits[i] = h;
-            }
+            for (uint32_t j = 0; j < c; j++)
+                TT_VARIANT(RTC_FN(rtc_pk_single))(t, R, idx[o][j], any, hits, occ, stats);
             continue;
         }
         /* an octant of more than PK_CHUNK rays goes in equal runs */
