@@ -148,11 +148,8 @@ static size_t compare_rows(const tt_accel *a, const tt_ray *rays, size_t count, 
     return differ;
 }
 
-/* singles: only the single-ray paths (packets off, the rows entries), for
- * rays the packet kernels do not agree on yet (denormal components: see
- * hostile_rays) */
-static void check_rays_as(const tt_accel *a, const tt_ray *rays, size_t n, uint32_t width,
-                          const char *what, int singles)
+static void check_rays(const tt_accel *a, const tt_ray *rays, size_t n, uint32_t width,
+                       const char *what)
 {
     tt_hit *one = malloc(n * sizeof *one);
     uint8_t *occ_one = malloc(n);
@@ -166,7 +163,7 @@ static void check_rays_as(const tt_accel *a, const tt_ray *rays, size_t n, uint3
     }
     static const uint32_t modes[] = {TT_PACKETS_ON, TT_PACKETS_AUTO, TT_PACKETS_OFF};
     static const char *mode_name[] = {"on", "auto", "off"};
-    for (int m = singles ? 2 : 0; m < 3; m++) {
+    for (int m = 0; m < 3; m++) {
         size_t d = compare_batch(a, rays, n, modes[m], width, 0, one, occ_one, st);
         CHECK_MSG(d == 0, "%s %s packets %s, tiles of width %u: %zu rays differ",
                   tt_accel_name(a), what, mode_name[m], width, d);
@@ -177,7 +174,7 @@ static void check_rays_as(const tt_accel *a, const tt_ray *rays, size_t n, uint3
     static const uint32_t sizes[] = {1, 2, 5, 8, 9, 16, 33, 64, 100, 256};
     for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; s++) {
         if (!g_small && sizes[s] != 1 && sizes[s] != 33 && sizes[s] != 256) continue;
-        size_t d = singles ? 0 : compare_direct(a, rays, n, sizes[s], one, occ_one, st);
+        size_t d = compare_direct(a, rays, n, sizes[s], one, occ_one, st);
         CHECK_MSG(d == 0, "%s %s: packets of %u rays: %zu results differ", tt_accel_name(a),
                   what, sizes[s], d);
         d = compare_rows(a, rays, n, sizes[s], one, occ_one, st);
@@ -187,12 +184,6 @@ static void check_rays_as(const tt_accel *a, const tt_ray *rays, size_t n, uint3
     free(one);
     free(occ_one);
     free(st);
-}
-
-static void check_rays(const tt_accel *a, const tt_ray *rays, size_t n, uint32_t width,
-                       const char *what)
-{
-    check_rays_as(a, rays, n, width, what, 0);
 }
 
 /* Primary and shadow rays of a view, SIZE x SIZE. */
@@ -295,14 +286,13 @@ static tt_ray *hostile_rays(const tt_scene *scene, const tt_camera *cam, int den
         case 6: /* (denormal), zero and NaN components, NaN and infinite
                  * intervals, tmin > tmax: the rows entries' own
                  * preparation (accel/wray_rows.h) and the batch's checks.
-                 * Denormal components only with `denormal`: the R-tree's
-                 * AVX2 packet kernel misses hits the single ray finds
-                 * (bunny_res4, 2026-12-03), so those rays are checked on
-                 * the single-ray paths alone (check_rays_as); and the
-                 * wide BVH's AVX2 single-ray walk crashes on some of them
-                 * and on tiny normal ones (dir (-0, 1e-37, -1e-37) on the
-                 * Cornell box, SIGSEGV in tt_wbvh_trace_avx2, main eb96896
-                 * too), so it skips them, and the others take 1e-35. */
+                 * Denormal components only with `denormal` (a set of
+                 * their own, so the others keep 1e-35): infinite
+                 * reciprocals beside finite or subnormal ones, which once
+                 * crashed the wide BVH's AVX2 walk (dir (-0, 1e-37,
+                 * -1e-37)) and made the R-tree's packets miss hits the
+                 * single rays found; every path is held to the single
+                 * rays on them. */
             for (int k = 0; k < 3; k++) {
                 static const float special[] = {1e-40f, -1e-40f, 1.4e-45f, -1.4e-45f,
                                                 1e-35f, -1e-35f, 0.0f,     -0.0f};
@@ -420,7 +410,7 @@ static void scene_view(tt_context *ctx, const char *file, const char *view, int 
             snprintf(what, sizeof what, "%s %s hostile", view, tt_isa_name((tt_isa)isa));
             check_rays(a, hostile, n_hostile, SIZE, what);
             snprintf(what, sizeof what, "%s %s denormal", view, tt_isa_name((tt_isa)isa));
-            if (strcmp(names[s], "wbvh") != 0) check_rays_as(a, denormal, n_hostile, SIZE, what, 1);
+            check_rays(a, denormal, n_hostile, SIZE, what);
             snprintf(what, sizeof what, "%s %s %s render", tt_accel_name(a), view,
                      tt_isa_name((tt_isa)isa));
             render_modes(ctx, scene, a, &cam, what);
@@ -486,7 +476,7 @@ static void kd_variants(tt_context *ctx, const char *file, const char *view)
             check_rays(a, hostile, n_hostile, SIZE, what);
             snprintf(what, sizeof what, "%s kdtree %s %s denormal", view, v[i].name,
                      tt_isa_name((tt_isa)isa));
-            check_rays_as(a, denormal, n_hostile, SIZE, what, 1);
+            check_rays(a, denormal, n_hostile, SIZE, what);
             tt_accel_destroy(a);
         }
     free(primary);
