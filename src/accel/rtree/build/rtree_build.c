@@ -174,59 +174,75 @@ static int keys_less(const float *a, const float *b, int n)
     return 0;
 }
 
+/* The measures of node n's entries, four at a time where SIMD is available
+ * (the scalar code's operations in the same order, so the same trees):
+ * surface areas (without the factor 2) into area[] and those of their
+ * unions with box e into grown[]; with vol (the volume strategies) also the
+ * volumes into vol[] and the unions' into grown_vol[]. cnt rounds up to
+ * whole SIMD lanes: the pool's spare lanes are read, their results unused. */
+static void entry_measures(const rt_builder *b, uint32_t n, const float e[6], float *area,
+                           float *grown, float *vol, float *grown_vol)
+{
+    const float *s = rt_node_box(b, n);
+    const int cap = b->cap, cnt = b->hdr[n].count;
+    const float *lx = s, *ly = s + cap, *lz = s + 2 * cap;
+    const float *hx = s + 3 * cap, *hy = s + 4 * cap, *hz = s + 5 * cap;
+#if defined(__SSE2__)
+    const __m128 e0 = _mm_set1_ps(e[0]), e1 = _mm_set1_ps(e[1]), e2 = _mm_set1_ps(e[2]);
+    const __m128 e3 = _mm_set1_ps(e[3]), e4 = _mm_set1_ps(e[4]), e5 = _mm_set1_ps(e[5]);
+    for (int i = 0; i < cnt; i += 4) {
+        const __m128 Lx = _mm_loadu_ps(lx + i), Ly = _mm_loadu_ps(ly + i);
+        const __m128 Lz = _mm_loadu_ps(lz + i), Hx = _mm_loadu_ps(hx + i);
+        const __m128 Hy = _mm_loadu_ps(hy + i), Hz = _mm_loadu_ps(hz + i);
+        const __m128 ex = _mm_sub_ps(Hx, Lx), ey = _mm_sub_ps(Hy, Ly), ez = _mm_sub_ps(Hz, Lz);
+        const __m128 ux = _mm_sub_ps(_mm_max_ps(Hx, e3), _mm_min_ps(Lx, e0));
+        const __m128 uy = _mm_sub_ps(_mm_max_ps(Hy, e4), _mm_min_ps(Ly, e1));
+        const __m128 uz = _mm_sub_ps(_mm_max_ps(Hz, e5), _mm_min_ps(Lz, e2));
+        _mm_storeu_ps(area + i, _mm_add_ps(_mm_add_ps(_mm_mul_ps(ex, ey), _mm_mul_ps(ey, ez)),
+                                           _mm_mul_ps(ez, ex)));
+        _mm_storeu_ps(grown + i, _mm_add_ps(_mm_add_ps(_mm_mul_ps(ux, uy), _mm_mul_ps(uy, uz)),
+                                            _mm_mul_ps(uz, ux)));
+        if (vol) {
+            _mm_storeu_ps(vol + i, _mm_mul_ps(_mm_mul_ps(ex, ey), ez));
+            _mm_storeu_ps(grown_vol + i, _mm_mul_ps(_mm_mul_ps(ux, uy), uz));
+        }
+    }
+#else
+    for (int i = 0; i < cnt; i++) {
+        const float ex = hx[i] - lx[i], ey = hy[i] - ly[i], ez = hz[i] - lz[i];
+        const float ux = rt_max(hx[i], e[3]) - rt_min(lx[i], e[0]);
+        const float uy = rt_max(hy[i], e[4]) - rt_min(ly[i], e[1]);
+        const float uz = rt_max(hz[i], e[5]) - rt_min(lz[i], e[2]);
+        area[i] = ex * ey + ey * ez + ez * ex;
+        grown[i] = ux * uy + uy * uz + uz * ux;
+        if (vol) {
+            vol[i] = ex * ey * ez;
+            grown_vol[i] = ux * uy * uz;
+        }
+    }
+#endif
+}
+
 static int choose_entry(const rt_builder *b, uint32_t n, const float e[6])
 {
     const rt_node_hdr *h = &b->hdr[n];
-    const float *s = rt_node_box(b, n);
-    const int cap = b->cap, cnt = h->count;
+    const int cnt = h->count;
     const tt_rtree_strategy st = b->strategy;
     if (st == TT_RTREE_RRSTAR) return rt_choose_rrstar(b, n, e);
     /* The R* variants minimise overlap only when choosing among leaves. */
     const int overlap = st == TT_RTREE_MIN_OVERLAP ||
                         (h->level == 1 && (st == TT_RTREE_RSTAR || st == TT_RTREE_RSTAR_SURFACE));
     const int surface_only = st == TT_RTREE_MIN_SURFACE || st == TT_RTREE_RSTAR_SURFACE;
-    const float *lx = s, *ly = s + cap, *lz = s + 2 * cap;
-    const float *hx = s + 3 * cap, *hy = s + 4 * cap, *hz = s + 5 * cap;
 
     if (!overlap) {
-        /* the hot path: the measures of all entries, four at a time where
-         * SIMD is available (same operations in the same order as the
-         * scalar code, so the same tree), then the lexicographic minimum */
+        /* the hot path: the measures of all entries (entry_measures), their
+         * growths, then the lexicographic minimum */
         float area[TT_RT_CAP + 3], darea[TT_RT_CAP + 3], vol[TT_RT_CAP + 3], dvol[TT_RT_CAP + 3];
-#if defined(__SSE2__)
-        const __m128 e0 = _mm_set1_ps(e[0]), e1 = _mm_set1_ps(e[1]), e2 = _mm_set1_ps(e[2]);
-        const __m128 e3 = _mm_set1_ps(e[3]), e4 = _mm_set1_ps(e[4]), e5 = _mm_set1_ps(e[5]);
-        for (int i = 0; i < cnt; i += 4) {
-            const __m128 Lx = _mm_loadu_ps(lx + i), Ly = _mm_loadu_ps(ly + i);
-            const __m128 Lz = _mm_loadu_ps(lz + i), Hx = _mm_loadu_ps(hx + i);
-            const __m128 Hy = _mm_loadu_ps(hy + i), Hz = _mm_loadu_ps(hz + i);
-            const __m128 ex = _mm_sub_ps(Hx, Lx), ey = _mm_sub_ps(Hy, Ly), ez = _mm_sub_ps(Hz, Lz);
-            const __m128 ux = _mm_sub_ps(_mm_max_ps(Hx, e3), _mm_min_ps(Lx, e0));
-            const __m128 uy = _mm_sub_ps(_mm_max_ps(Hy, e4), _mm_min_ps(Ly, e1));
-            const __m128 uz = _mm_sub_ps(_mm_max_ps(Hz, e5), _mm_min_ps(Lz, e2));
-            const __m128 a = _mm_add_ps(_mm_add_ps(_mm_mul_ps(ex, ey), _mm_mul_ps(ey, ez)),
-                                        _mm_mul_ps(ez, ex));
-            const __m128 ua = _mm_add_ps(_mm_add_ps(_mm_mul_ps(ux, uy), _mm_mul_ps(uy, uz)),
-                                         _mm_mul_ps(uz, ux));
-            const __m128 v = _mm_mul_ps(_mm_mul_ps(ex, ey), ez);
-            const __m128 uv = _mm_mul_ps(_mm_mul_ps(ux, uy), uz);
-            _mm_storeu_ps(area + i, a);
-            _mm_storeu_ps(darea + i, _mm_sub_ps(ua, a));
-            _mm_storeu_ps(vol + i, v);
-            _mm_storeu_ps(dvol + i, _mm_sub_ps(uv, v));
-        }
-#else
+        entry_measures(b, n, e, area, darea, surface_only ? NULL : vol, dvol);
         for (int i = 0; i < cnt; i++) {
-            const float ex = hx[i] - lx[i], ey = hy[i] - ly[i], ez = hz[i] - lz[i];
-            const float ux = rt_max(hx[i], e[3]) - rt_min(lx[i], e[0]);
-            const float uy = rt_max(hy[i], e[4]) - rt_min(ly[i], e[1]);
-            const float uz = rt_max(hz[i], e[5]) - rt_min(lz[i], e[2]);
-            area[i] = ex * ey + ey * ez + ez * ex;
-            darea[i] = (ux * uy + uy * uz + uz * ux) - area[i];
-            vol[i] = ex * ey * ez;
-            dvol[i] = ux * uy * uz - vol[i];
+            darea[i] -= area[i];
+            if (!surface_only) dvol[i] -= vol[i];
         }
-#endif
         int best_i = 0;
         for (int i = 1; i < cnt; i++) {
             if (surface_only) {
@@ -373,45 +389,7 @@ static tt_status overflow(rt_builder *b, uint32_t n)
     return split_node(b, n);
 }
 
-/* The surface areas (without the factor 2) of node n's entries and of
- * their unions with box e, into area[] and grown[] (cnt rounded up to
- * whole SIMD lanes: the pool's spare lanes are read, their results unused). */
-static void entry_areas(const rt_builder *b, uint32_t n, const float e[6], float *area,
-                        float *grown)
-{
-    const float *s = rt_node_box(b, n);
-    const int cap = b->cap, cnt = b->hdr[n].count;
-    const float *lx = s, *ly = s + cap, *lz = s + 2 * cap;
-    const float *hx = s + 3 * cap, *hy = s + 4 * cap, *hz = s + 5 * cap;
-#if defined(__SSE2__)
-    const __m128 e0 = _mm_set1_ps(e[0]), e1 = _mm_set1_ps(e[1]), e2 = _mm_set1_ps(e[2]);
-    const __m128 e3 = _mm_set1_ps(e[3]), e4 = _mm_set1_ps(e[4]), e5 = _mm_set1_ps(e[5]);
-    for (int i = 0; i < cnt; i += 4) {
-        const __m128 Lx = _mm_loadu_ps(lx + i), Ly = _mm_loadu_ps(ly + i);
-        const __m128 Lz = _mm_loadu_ps(lz + i), Hx = _mm_loadu_ps(hx + i);
-        const __m128 Hy = _mm_loadu_ps(hy + i), Hz = _mm_loadu_ps(hz + i);
-        const __m128 ex = _mm_sub_ps(Hx, Lx), ey = _mm_sub_ps(Hy, Ly), ez = _mm_sub_ps(Hz, Lz);
-        const __m128 ux = _mm_sub_ps(_mm_max_ps(Hx, e3), _mm_min_ps(Lx, e0));
-        const __m128 uy = _mm_sub_ps(_mm_max_ps(Hy, e4), _mm_min_ps(Ly, e1));
-        const __m128 uz = _mm_sub_ps(_mm_max_ps(Hz, e5), _mm_min_ps(Lz, e2));
-        _mm_storeu_ps(area + i, _mm_add_ps(_mm_add_ps(_mm_mul_ps(ex, ey), _mm_mul_ps(ey, ez)),
-                                           _mm_mul_ps(ez, ex)));
-        _mm_storeu_ps(grown + i, _mm_add_ps(_mm_add_ps(_mm_mul_ps(ux, uy), _mm_mul_ps(uy, uz)),
-                                            _mm_mul_ps(uz, ux)));
-    }
-#else
-    for (int i = 0; i < cnt; i++) {
-        const float ex = hx[i] - lx[i], ey = hy[i] - ly[i], ez = hz[i] - lz[i];
-        const float ux = rt_max(hx[i], e[3]) - rt_min(lx[i], e[0]);
-        const float uy = rt_max(hy[i], e[4]) - rt_min(ly[i], e[1]);
-        const float uz = rt_max(hz[i], e[5]) - rt_min(lz[i], e[2]);
-        area[i] = ex * ey + ey * ez + ez * ex;
-        grown[i] = ux * uy + uy * uz + uz * ux;
-    }
-#endif
-}
-
-/* Half the surface area, as entry_areas measures it. */
+/* Half the surface area, as entry_measures measures it. */
 static float half_area(const float b[6])
 {
     const float x = b[3] - b[0], y = b[4] - b[1], z = b[5] - b[2];
@@ -427,7 +405,7 @@ static int choose_leaf_sah(const rt_builder *b, uint32_t n, const float e[6], fl
     const uint32_t *ch = rt_node_child(b, n);
     const int cnt = b->hdr[n].count, M = b->M;
     float area[TT_RT_CAP + 3], grown[TT_RT_CAP + 3];
-    entry_areas(b, n, e, area, grown);
+    entry_measures(b, n, e, area, grown, NULL, NULL);
     /* a new leaf in a full node splits it: one more node to visit, about
      * as big as n (the same for a full leaf, whose split adds a leaf) */
     const float split = cnt >= M ? b->sah_split_cost * an : 0.0f;
@@ -498,7 +476,7 @@ static uint32_t find_level1_sah(const rt_builder *b, const float e[6], float *an
         float ind = 0.0f, na = half_area(rb);
         while (b->hdr[n].level > 1) {
             float area[TT_RT_CAP + 3], grown[TT_RT_CAP + 3];
-            entry_areas(b, n, e, area, grown);
+            entry_measures(b, n, e, area, grown, NULL, NULL);
             int bi = 0;
             for (int i = 1; i < b->hdr[n].count; i++) {
                 const float d = grown[i] - area[i], db = grown[bi] - area[bi];
@@ -531,7 +509,7 @@ static uint32_t find_level1_sah(const rt_builder *b, const float e[6], float *an
             continue;
         }
         float area[TT_RT_CAP + 3], grown[TT_RT_CAP + 3];
-        entry_areas(b, n, e, area, grown);
+        entry_measures(b, n, e, area, grown, NULL, NULL);
         const uint32_t *ch = rt_node_child(b, n);
         for (int i = 0; i < b->hdr[n].count; i++) {
             const float ind = c.ind + (grown[i] - area[i]);
