@@ -71,6 +71,20 @@ static size_t compare_batch(const tt_accel *a, const tt_ray *rays, size_t n, uin
     return differ;
 }
 
+/* The next rows of a run of at most n: the valid rays (st_one TT_OK) from
+ * rays[*i] on, into w's rows 0..k, their indices into idx; returns k. */
+static uint32_t gather(tt_packet_rays *w, const tt_ray *rays, size_t count, size_t *i, uint32_t n,
+                       const tt_status *st_one, size_t *idx)
+{
+    uint32_t k = 0;
+    for (; *i < count && k < n; ++*i) {
+        if (st_one[*i] != TT_OK) continue;
+        tt_packet_ray_set(w, k, rays[*i].org, rays[*i].dir, rays[*i].tmin, rays[*i].tmax);
+        idx[k++] = *i;
+    }
+    return k;
+}
+
 /* The vtable's packet entries called directly on runs of n rays. */
 static size_t compare_direct(const tt_accel *a, const tt_ray *rays, size_t count, uint32_t n,
                              const tt_hit *one, const uint8_t *occ_one, const tt_status *st_one)
@@ -82,12 +96,7 @@ static size_t compare_direct(const tt_accel *a, const tt_ray *rays, size_t count
     uint8_t o[TT_PACKET_MAX];
     size_t idx[TT_PACKET_MAX], differ = 0;
     for (size_t i = 0; i < count;) {
-        uint32_t k = 0;
-        for (; i < count && k < n; i++) {
-            if (st_one[i] != TT_OK) continue;
-            tt_packet_ray_set(&w, k, rays[i].org, rays[i].dir, rays[i].tmin, rays[i].tmax);
-            idx[k++] = i;
-        }
+        const uint32_t k = gather(&w, rays, count, &i, n, st_one, idx);
         w.n = k;
         vt->intersect_packet(a, &w, h);
         vt->occluded_packet(a, &w, o);
@@ -120,12 +129,7 @@ static size_t compare_rows(const tt_accel *a, const tt_ray *rays, size_t count, 
     uint8_t o[TT_PACKET_MAX];
     size_t idx[TT_PACKET_MAX], differ = 0;
     for (size_t i = 0; i < count;) {
-        uint32_t k = 0;
-        for (; i < count && k < n; i++) {
-            if (st_one[i] != TT_OK) continue;
-            tt_packet_ray_set(&w, k, rays[i].org, rays[i].dir, rays[i].tmin, rays[i].tmax);
-            idx[k++] = i;
-        }
+        const uint32_t k = gather(&w, rays, count, &i, n, st_one, idx);
         const float poison[3] = {NAN, NAN, NAN};
         for (uint32_t j = k; j < TT_PACKET_MAX; j++) tt_packet_ray_set(&w, j, poison, poison, NAN, NAN);
         w.n = k;

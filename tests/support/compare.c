@@ -184,13 +184,20 @@ static uint32_t next(uint32_t *x)
 
 static float unit(uint32_t *x) { return (float)(next(x) >> 8) * (1.0f / 16777216.0f); }
 
+/* The box random rays start in: the scene's, or [-1, 1]^3 for an empty
+ * scene (whose bounds are empty). */
+static void ray_box(const tt_scene *scene, float lo[3], float hi[3])
+{
+    tt_scene_bounds(scene, lo, hi);
+    if (!(lo[0] <= hi[0])) lo[0] = lo[1] = lo[2] = -1.0f, hi[0] = hi[1] = hi[2] = 1.0f;
+}
+
 size_t tt_test_compare_random(const tt_scene *scene, const tt_accel *test, const tt_accel *ref,
                               uint32_t n, uint32_t seed)
 {
     cmp_state s = {0, tt_accel_name(test), rule_for(test, ref)};
     float lo[3], hi[3];
-    tt_scene_bounds(scene, lo, hi);
-    if (!(lo[0] <= hi[0])) lo[0] = lo[1] = lo[2] = -1.0f, hi[0] = hi[1] = hi[2] = 1.0f;
+    ray_box(scene, lo, hi);
     uint32_t x = seed ? seed : 1;
     for (uint32_t i = 0; i < n; i++) {
         tt_ray r;
@@ -230,8 +237,7 @@ size_t tt_test_compare_tiny_dirs(const tt_scene *scene, const tt_accel *test, co
     const uint32_t n_tiny = (uint32_t)(sizeof tiny / sizeof tiny[0]);
     cmp_state s = {0, tt_accel_name(test), rule_for(test, ref)};
     float lo[3], hi[3];
-    tt_scene_bounds(scene, lo, hi);
-    if (!(lo[0] <= hi[0])) lo[0] = lo[1] = lo[2] = -1.0f, hi[0] = hi[1] = hi[2] = 1.0f;
+    ray_box(scene, lo, hi);
     uint32_t x = seed ? seed : 1;
     for (uint32_t i = 0; i < n; i++) {
         tt_ray r;

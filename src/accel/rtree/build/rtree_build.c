@@ -389,6 +389,18 @@ static tt_status overflow(rt_builder *b, uint32_t n)
     return split_node(b, n);
 }
 
+/* Entry i of node n grown to hold box e (an insertion passing through it). */
+static void grow_entry(rt_builder *b, uint32_t n, int i, const float e[6])
+{
+    float *s = rt_node_box(b, n);
+    const int cap = b->cap;
+    rt_builder_touch(b, n);
+    for (int k = 0; k < 3; k++) {
+        s[k * cap + i] = rt_min(s[k * cap + i], e[k]);
+        s[(k + 3) * cap + i] = rt_max(s[(k + 3) * cap + i], e[k + 3]);
+    }
+}
+
 /* Half the surface area, as entry_measures measures it. */
 static float half_area(const float b[6])
 {
@@ -554,13 +566,7 @@ static tt_status insert_triangle_sah(rt_builder *b, const float e[6], uint32_t c
         if (b->hdr[n].count > b->M) return overflow(b, n);
         return TT_OK;
     }
-    float *s = rt_node_box(b, n);
-    const int cap = b->cap;
-    rt_builder_touch(b, n);
-    for (int k = 0; k < 3; k++) {
-        s[k * cap + i] = rt_min(s[k * cap + i], e[k]);
-        s[(k + 3) * cap + i] = rt_max(s[(k + 3) * cap + i], e[k + 3]);
-    }
+    grow_entry(b, n, i, e);
     const uint32_t leaf = rt_node_child(b, n)[i];
     add_entry(b, leaf, e, c);
     if (b->hdr[leaf].count > b->M) return overflow(b, leaf);
@@ -575,14 +581,8 @@ static tt_status insert_entry(rt_builder *b, const float e[6], uint32_t c, int l
         return insert_triangle_sah(b, e, c);
     uint32_t n = b->root;
     while (b->hdr[n].level > level) {
-        int i = choose_entry(b, n, e);
-        float *s = rt_node_box(b, n);
-        const int cap = b->cap;
-        rt_builder_touch(b, n);
-        for (int k = 0; k < 3; k++) {
-            s[k * cap + i] = rt_min(s[k * cap + i], e[k]);
-            s[(k + 3) * cap + i] = rt_max(s[(k + 3) * cap + i], e[k + 3]);
-        }
+        const int i = choose_entry(b, n, e);
+        grow_entry(b, n, i, e);
         n = rt_node_child(b, n)[i];
     }
     add_entry(b, n, e, c);
