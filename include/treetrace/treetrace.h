@@ -140,13 +140,16 @@ tt_status tt_scene_normals(const tt_scene *scene, const uint32_t *prims, size_t 
 
 /* Rays cover t in [tmin, tmax), the points org + t * dir. dir need not be
  * normalized. The contract every structure (Embree included) is held to:
- * - org and dir finite, dir not zero;
+ * - org and dir finite; dir's largest component at least 2^-80 (about
+ *   8.3e-25) in magnitude: below it 1/d and the watertight test's terms leave
+ *   float range (a zero direction is the extreme case). Scale a shorter
+ *   direction up; t scales down with it;
  * - 0 <= tmin: rays start at their origin (as in Embree); to find hits behind
  *   a point, move the origin back instead;
  * - tmax may be +inf; tmin >= tmax is a legal empty interval (a miss, not
  *   occluded);
  * - NaN in tmin or tmax, a negative tmin (also -inf), a non-finite origin or
- *   direction, or a zero direction: tt_intersect1(_ex) / tt_occluded1(_ex)
+ *   direction, or a zero or too short direction: tt_intersect1(_ex) / tt_occluded1(_ex)
  *   return TT_ERR_INVALID_ARGUMENT with a message naming the cause. */
 typedef struct tt_ray {
     float org[3];
@@ -343,7 +346,7 @@ typedef void (*tt_stat_fn)(void *user, const char *key, double value);
 tt_status tt_accel_statistics(const tt_accel *accel, tt_stat_fn fn, void *user);
 
 /* Closest hit on [tmin, tmax). Rejects rays breaking tt_ray's contract
- * (non-finite origin/direction, zero direction, NaN interval ends, negative
+ * (non-finite origin/direction, zero or too short direction, NaN interval ends, negative
  * tmin) with TT_ERR_INVALID_ARGUMENT. */
 tt_status tt_intersect1(const tt_accel *accel, const tt_ray *ray, tt_hit *hit);
 /* Any hit on [tmin, tmax): *occluded = 1 or 0. */

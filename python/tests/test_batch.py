@@ -168,6 +168,8 @@ def test_bad_rays_raise_with_index(small_scene, rays):
         a.occluded(org, d, tmin, tmax)
     with pytest.raises(tt.InvalidArgumentError, match="zero direction"):
         a.intersect1(org[0], (0, 0, 0))
+    with pytest.raises(tt.InvalidArgumentError, match="direction too short"):
+        a.intersect1(org[0], (1e-30, 0, -1e-25))
     with pytest.raises(tt.InvalidArgumentError, match="rows"):
         a.intersect(org[:10], d)
     with pytest.raises(tt.InvalidArgumentError, match="shape"):

@@ -112,7 +112,8 @@ static void store_hit(const tt_hit_arrays *h, size_t i, const tt_hit *hit)
 }
 
 /* The ray contract's common case in a few compares, inline: finite origin
- * and direction, a non-zero direction, 0 <= tmin and tmax not NaN. Any ray
+ * and direction, a direction not too short (TT_RAY_DIR_MIN), 0 <= tmin and
+ * tmax not NaN. Any ray
  * failing it goes to tt_ray_check, which decides (and words the cause). */
 static inline tt_status check_ray(const float org[3], const float dir[3], float tmin, float tmax)
 {
@@ -122,7 +123,8 @@ static inline tt_status check_ray(const float org[3], const float dir[3], float 
     const float fin = ((org[0] - org[0]) + (org[1] - org[1])) + ((org[2] - org[2]) + (dir[0] - dir[0])) +
                       ((dir[1] - dir[1]) + (dir[2] - dir[2]));
     const int ok = (fin == 0.0f) & (tmin >= 0.0f) & (tmax == tmax) &
-                   ((dir[0] != 0.0f) | (dir[1] != 0.0f) | (dir[2] != 0.0f));
+                   ((fabsf(dir[0]) >= TT_RAY_DIR_MIN) | (fabsf(dir[1]) >= TT_RAY_DIR_MIN) |
+                    (fabsf(dir[2]) >= TT_RAY_DIR_MIN));
     return ok ? TT_OK : tt_ray_check(org, dir, tmin, tmax, NULL, 0);
 }
 
@@ -193,7 +195,9 @@ static inline int check_rows(const tt_packet_rays *p)
             ((p->org[2][j] - p->org[2][j]) + (p->dir[0][j] - p->dir[0][j])) +
             ((p->dir[1][j] - p->dir[1][j]) + (p->dir[2][j] - p->dir[2][j]));
         const int ok = (fin == 0.0f) & (p->tmin[j] >= 0.0f) & (p->tmax[j] == p->tmax[j]) &
-                       ((p->dir[0][j] != 0.0f) | (p->dir[1][j] != 0.0f) | (p->dir[2][j] != 0.0f));
+                       ((fabsf(p->dir[0][j]) >= TT_RAY_DIR_MIN) |
+                        (fabsf(p->dir[1][j]) >= TT_RAY_DIR_MIN) |
+                        (fabsf(p->dir[2][j]) >= TT_RAY_DIR_MIN));
         fail |= (uint32_t)!ok;
     }
     return fail == 0;

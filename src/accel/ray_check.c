@@ -15,6 +15,15 @@ tt_status tt_ray_check(const float org[3], const float dir[3], float tmin, float
         if (why) snprintf(why, size, "%s", cause);
         return TT_ERR_INVALID_ARGUMENT;
     }
+    const float m = fmaxf(fabsf(dir[0]), fmaxf(fabsf(dir[1]), fabsf(dir[2])));
+    if (m < TT_RAY_DIR_MIN) {
+        if (why)
+            snprintf(why, size,
+                     "ray with a direction too short to trace (largest component %g, below 2^-80 = "
+                     "%g): scale the direction up; t scales down with it",
+                     m, TT_RAY_DIR_MIN);
+        return TT_ERR_INVALID_ARGUMENT;
+    }
     /* t in [tmin, tmax) with 0 <= tmin. Rays start at their origin, as in
      * Embree, whose traversal cannot look behind it; a caller wanting hits
      * behind a point moves the origin back. tmin >= tmax (also +inf) is a

@@ -371,6 +371,15 @@ static void check_arguments(tt_context *ctx, const tt_accel *accel, const tt_ray
     CHECK(rs == TT_ERR_INVALID_ARGUMENT && hit_miss(&h));
     CHECK_MSG(strstr(tt_context_last_error(ctx), "ray 0 of 1: ray with a zero direction") != NULL,
               "message '%s'", tt_context_last_error(ctx));
+    /* a direction too short (largest component below 2^-80), through both
+     * quick checks (single rays and rows) */
+    bad.dir[1] = -0x1.fffffep-81f;
+    rs = TT_OK;
+    CHECK(tt_occluded(accel, &bad, 1, &o, &rs, NULL) == TT_ERR_INVALID_ARGUMENT);
+    CHECK(rs == TT_ERR_INVALID_ARGUMENT);
+    CHECK_MSG(strstr(tt_context_last_error(ctx), "ray 0 of 1: ray with a direction too short") !=
+                  NULL,
+              "message '%s'", tt_context_last_error(ctx));
 }
 
 int main(void)

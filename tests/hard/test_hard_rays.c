@@ -138,6 +138,10 @@ static void visit_invalid(void *user, const char *label, const tt_accel *acc)
     }
     tt_ray z = {{0.5f, 0.5f, -3.0f}, 0.0f, {0.0f, -0.0f, 0.0f}, inf};
     expect_invalid(ctx, acc, &z, "a zero direction", "zero direction");
+    /* the largest component below 2^-80: 1/d and the watertight test's terms
+     * leave float range; 2^-80 itself is accepted (the other tests trace it) */
+    tt_ray sh = {{0.5f, 0.5f, -3.0f}, 0.0f, {1e-30f, -0x1.fffffep-81f, 1e-45f}, inf};
+    expect_invalid(ctx, acc, &sh, "a too short direction", "direction too short");
     tt_ray n1 = {{0.5f, 0.5f, -3.0f}, nan, {0.0f, 0.0f, 1.0f}, inf};
     expect_invalid(ctx, acc, &n1, "a NaN tmin", "NaN");
     tt_ray n2 = {{0.5f, 0.5f, -3.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, nan};

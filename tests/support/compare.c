@@ -229,11 +229,29 @@ size_t tt_test_compare_random(const tt_scene *scene, const tt_accel *test, const
     return s.bad;
 }
 
+/* Both structures refuse ray r, the test's fast and counting calls too. */
+static void check_refused(cmp_state *s, const tt_accel *test, const tt_accel *ref,
+                          const tt_ray *r)
+{
+    tt_hit h;
+    int o;
+    tt_ray_stats st;
+    memset(&st, 0, sizeof st);
+    tt_trace_args a_stats = {TT_INVALID_ID, TT_INVALID_ID, &st};
+    const int refused = tt_intersect1(ref, r, &h) == TT_ERR_INVALID_ARGUMENT &&
+                        tt_occluded1(ref, r, &o) == TT_ERR_INVALID_ARGUMENT &&
+                        tt_intersect1(test, r, &h) == TT_ERR_INVALID_ARGUMENT &&
+                        tt_occluded1(test, r, &o) == TT_ERR_INVALID_ARGUMENT &&
+                        tt_intersect1_ex(test, r, &h, &a_stats) == TT_ERR_INVALID_ARGUMENT &&
+                        tt_occluded1_ex(test, r, &o, &a_stats) == TT_ERR_INVALID_ARGUMENT;
+    if (!refused) report(s, "refused", r, "a direction below 2^-80 was traced");
+}
+
 size_t tt_test_compare_tiny_dirs(const tt_scene *scene, const tt_accel *test, const tt_accel *ref,
                                  uint32_t n, uint32_t seed)
 {
-    /* below the reciprocal's overflow threshold (1/x = inf for x < ~2.9e-39) */
-    static const float tiny[] = {0.0f, 1e-45f, 1e-40f, 1e-39f, 2.5e-39f};
+    /* 1/x = inf for x below ~2.9e-39; 1e-30 is where tt_safe_inv clamps */
+    static const float tiny[] = {0.0f, 1e-45f, 1e-40f, 1e-39f, 2.5e-39f, 1e-30f, 3e-25f};
     const uint32_t n_tiny = (uint32_t)(sizeof tiny / sizeof tiny[0]);
     cmp_state s = {0, tt_accel_name(test), rule_for(test, ref)};
     float lo[3], hi[3];
@@ -246,9 +264,15 @@ size_t tt_test_compare_tiny_dirs(const tt_scene *scene, const tt_accel *test, co
             uint32_t b = next(&x);
             r.dir[k] = tiny[b % n_tiny] * ((b >> 8) & 1 ? -1.0f : 1.0f);
         }
-        if (r.dir[0] == 0.0f && r.dir[1] == 0.0f && r.dir[2] == 0.0f) r.dir[i % 3] = tiny[2];
         r.tmin = 0.0f;
         r.tmax = INFINITY;
+        if (i % 4 == 0) {
+            check_refused(&s, test, ref, &r);
+            continue;
+        }
+        uint32_t b = next(&x);
+        const float m = ldexpf(1.0f + unit(&x), -80 + (int)(b % 8));
+        r.dir[i % 3] = (b >> 8) & 1 ? -m : m;
         check_closest(&s, test, ref, &r, TT_INVALID_ID, NULL, NULL);
         r.tmax = 1e30f;
         check_occluded(&s, test, ref, &r, TT_INVALID_ID);

@@ -53,13 +53,18 @@ size_t tt_test_compare_view_multi(const tt_scene *scene, const tt_accel *const *
 size_t tt_test_compare_random(const tt_scene *scene, const tt_accel *test, const tt_accel *ref,
                               uint32_t n, uint32_t seed);
 
-/* n rays whose every direction component is tiny (zero, or a subnormal or
- * small normal float below ~3e-39, so each reciprocal is infinite), from
- * origins inside the scene box: closest hit and occlusion. A SIMD box test
- * that fuses the subtraction and the multiply by the reciprocal meets 0 *
- * inf = NaN on every axis at once here; with NaN slabs an unused child
- * (bounds +inf) passed and its invalid reference was followed (a crash in
- * the R-tree's and the wide BVH's AVX2 kernels before the fix). */
+/* n rays with tiny direction components (zero, or a subnormal or small
+ * float down to where the reciprocal is infinite), from origins inside the
+ * scene box:
+ * - a quarter have every component tiny, the largest below TT_RAY_DIR_MIN
+ *   (2^-80): test and reference must both refuse them, fast and counting
+ *   calls, closest hit and occlusion. (Before the contract refused them, a
+ *   SIMD box test fusing the subtraction and the multiply by the reciprocal
+ *   met 0 * inf = NaN on every axis, and the R-tree's and the wide BVH's
+ *   AVX2 kernels followed an unused child's invalid reference; the kd-tree
+ *   lost hits, its plane crossings clamped.)
+ * - the others get one component just above the limit (2^-80 .. 2^-73),
+ *   hits at t ~ 1e23: closest hit and occlusion against the reference. */
 size_t tt_test_compare_tiny_dirs(const tt_scene *scene, const tt_accel *test, const tt_accel *ref,
                                  uint32_t n, uint32_t seed);
 
