@@ -13,8 +13,8 @@
  * [max(kmin, ceil(n/hi)), min(M, floor(n/lo))] (kmin = 2 at the root, m
  * elsewhere), a range the node's own capacity makes non-empty; choose_k
  * picks k in it (a level-1 node as many leaves as fit, the nodes above as
- * many children as subtrees of full nodes over leaves of LEAF_AIM
- * triangles need, so the slack of the fixed height goes to the top). The node's
+ * many children as subtrees of full nodes over leaves of M / 4 triangles
+ * need, so the slack of the fixed height goes to the top). The node's
  * triangles are cut into its k groups by recursive binary cuts: a range
  * that must become k groups is cut into c and n - c triangles that become
  * k1 and k - k1 groups, with c in [k1 lo, k1 hi] and n - c in
@@ -52,10 +52,15 @@
  * saturated machine pays. */
 #define SAH_PARALLEL_MIN (1u << 14)
 /* The triangles a leaf is aimed at when sizing the nodes above level 1 (see
- * choose_k): half a block (TT_TRI_BLOCK_W = 8), Embree's leaf size too.
- * Measured on the shared views and the unseen scenes against 2, 3, 5, 6, 8
- * (notes/rwidth.md): 3 and 5 lose on some views, 6 and 8 on shadows. */
-#define LEAF_AIM 4
+ * choose_k): M / LEAF_AIM_DIV, 4 at the default M = 16 (half a block,
+ * TT_TRI_BLOCK_W = 8). Measured at M = 16 on the shared views and the
+ * unseen scenes against 2, 3, 5, 6, 8 (notes/rwidth.md): 3 and 5 lose on
+ * some views, 6 and 8 on shadows. At M = 4 (aim 1) and M = 8 (aim 2) the
+ * aimed trees lost on Sibenik and conference (a 4- or 8-box node test is
+ * cheap against what fuller leaves cost; an aim of m, 2 at M = 16, was
+ * mixed too): where M / 4 is not above m the nodes are the widest, as
+ * before. */
+#define LEAF_AIM_DIV 4
 
 typedef struct sah {
     const float *tri_box;
@@ -80,7 +85,7 @@ typedef struct sah {
  * left the slack at the bottom: on Sibenik and the bunny (T just above
  * M^4) level-1 nodes of ~18 triangles in 9 leaves of 2, 4200 records. Now
  * a node gets the children that subtrees of full nodes over leaves of
- * LEAF_AIM triangles need, ceil(n / (LEAF_AIM M^(l-1))), within the range
+ * aim = M / 4 triangles need, ceil(n / (aim M^(l-1))), within the range
  * above, so the nodes below are full and the slack goes to the top (at
  * M = 16 a root of 4 to 16 entries once T > M^2). Sibenik: 990 records, interior visits a primary ray
  * 12.3 -> 9.6; measured faster on every shared and unseen view, whose
@@ -90,7 +95,7 @@ static int choose_k(const sah *s, uint64_t n, int level)
     const uint64_t lo = s->lo[level - 1], hi = s->hi[level - 1];
     uint64_t kmax = n / lo;
     if (kmax > (uint64_t)s->M) kmax = (uint64_t)s->M;
-    if (level == 1) return (int)kmax;
+    if (level == 1 || s->aim[0] == 0) return (int)kmax;
     uint64_t kmin = (n + hi - 1) / hi;
     const uint64_t least = level == s->root_level ? 2 : (uint64_t)s->m;
     if (kmin < least) kmin = least;
@@ -781,7 +786,9 @@ static tt_status sah_run(sah *s, tt_context *ctx, const tt_rtree_options *opt,
         s->hi[l] = l == 0 ? (uint64_t)opt->M : s->hi[l - 1] * (uint64_t)opt->M;
         if (s->lo[l] > ((uint64_t)1 << 40)) s->lo[l] = (uint64_t)1 << 40; /* beyond any T */
         if (s->hi[l] > ((uint64_t)1 << 40)) s->hi[l] = (uint64_t)1 << 40;
-        s->aim[l] = l == 0 ? LEAF_AIM : s->aim[l - 1] * (uint64_t)opt->M;
+        /* aim 0: the widest nodes (choose_k) */
+        s->aim[l] = l == 0 ? (opt->M / LEAF_AIM_DIV > opt->m ? (uint64_t)(opt->M / LEAF_AIM_DIV) : 0)
+                           : s->aim[l - 1] * (uint64_t)opt->M;
         if (s->aim[l] > ((uint64_t)1 << 40)) s->aim[l] = (uint64_t)1 << 40;
     }
     while (s->hi[L] < T) L++;
