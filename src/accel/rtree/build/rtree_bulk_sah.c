@@ -11,7 +11,10 @@
  * A node on level l >= 1 with n triangles gets k children, each a subtree
  * on level l - 1 holding [lo, hi] = [m^l, M^l] triangles: k lies in
  * [max(kmin, ceil(n/hi)), min(M, floor(n/lo))] (kmin = 2 at the root, m
- * elsewhere), a range the node's own capacity makes non-empty. The node's
+ * elsewhere), a range the node's own capacity makes non-empty; choose_k
+ * picks k in it (a level-1 node as many leaves as fit, the nodes above as
+ * many children as subtrees of full nodes over leaves of M / 4 triangles
+ * need, so the slack of the fixed height goes to the top). The node's
  * triangles are cut into its k groups by recursive binary cuts: a range
  * that must become k groups is cut into c and n - c triangles that become
  * k1 and k - k1 groups, with c in [k1 lo, k1 hi] and n - c in
@@ -48,6 +51,16 @@
  * holds a task the other waits for: notes/build.md), a cost only a
  * saturated machine pays. */
 #define SAH_PARALLEL_MIN (1u << 14)
+/* The triangles a leaf is aimed at when sizing the nodes above level 1 (see
+ * choose_k): M / LEAF_AIM_DIV, 4 at the default M = 16 (half a block,
+ * TT_TRI_BLOCK_W = 8). Measured at M = 16 on the shared views and the
+ * unseen scenes against 2, 3, 5, 6, 8 (notes/rwidth.md): 3 and 5 lose on
+ * some views, 6 and 8 on shadows. At M = 4 (aim 1) and M = 8 (aim 2) the
+ * aimed trees lost on Sibenik and conference (a 4- or 8-box node test is
+ * cheap against what fuller leaves cost; an aim of m, 2 at M = 16, was
+ * mixed too): where M / 4 is not above m the nodes are the widest, as
+ * before. */
+#define LEAF_AIM_DIV 4
 
 typedef struct sah {
     const float *tri_box;
@@ -55,8 +68,43 @@ typedef struct sah {
     uint32_t *idx;    /* triangle ids, becoming leaf order */
     uint8_t *mark;    /* per position: 1 + the highest level whose node starts here; 0 none */
     uint64_t lo[TT_RT_BUILD_LEVELS], hi[TT_RT_BUILD_LEVELS]; /* subtree capacity by its level */
+    uint64_t aim[TT_RT_BUILD_LEVELS]; /* choose_k's triangles of a subtree by its level */
     int m, M, root_level;
 } sah;
+
+/* The children of a node on `level` holding n triangles.
+ *
+ * A level-1 node gets as many leaves as fit, min(M, floor(n / m)): its
+ * leaves share blocks and a record tests each block at most once
+ * (rtc_trace_leaf.h), so more leaf boxes cost no triangle tests and cull
+ * better; the node's own test costs the same for any count.
+ *
+ * Above it, what costs is nodes: every interior visit is a full M-box test
+ * and a record (7 cache lines at M = 16) to fetch. The loader used to make
+ * every node as wide as its capacity allows, which with the height fixed
+ * left the slack at the bottom: on Sibenik and the bunny (T just above
+ * M^4) level-1 nodes of ~18 triangles in 9 leaves of 2, 4200 records. Now
+ * a node gets the children that subtrees of full nodes over leaves of
+ * aim = M / 4 triangles need, ceil(n / (aim M^(l-1))), within the range
+ * above, so the nodes below are full and the slack goes to the top (at
+ * M = 16 a root of 4 to 16 entries once T > M^2). Sibenik: 990 records, interior visits a primary ray
+ * 12.3 -> 9.6; measured faster on every shared and unseen view, whose
+ * numbers are in notes/rwidth.md. */
+static int choose_k(const sah *s, uint64_t n, int level)
+{
+    const uint64_t lo = s->lo[level - 1], hi = s->hi[level - 1];
+    uint64_t kmax = n / lo;
+    if (kmax > (uint64_t)s->M) kmax = (uint64_t)s->M;
+    if (level == 1 || s->aim[0] == 0) return (int)kmax;
+    uint64_t kmin = (n + hi - 1) / hi;
+    const uint64_t least = level == s->root_level ? 2 : (uint64_t)s->m;
+    if (kmin < least) kmin = least;
+    const uint64_t aim = s->aim[level - 1];
+    uint64_t k = (n + aim - 1) / aim;
+    if (k < kmin) k = kmin;
+    if (k > kmax) k = kmax;
+    return (int)k;
+}
 
 /* ------------------------------------------------------------ feasibility */
 
@@ -664,11 +712,9 @@ static void small_node(small *sm, uint32_t a, uint32_t n, int level)
 {
     const sah *s = sm->s;
     const uint64_t lo = s->lo[level - 1], hi = s->hi[level - 1];
-    uint64_t kmax = n / lo;
-    if (kmax > (uint64_t)s->M) kmax = (uint64_t)s->M;
     uint32_t starts[TT_RT_MAX_M + 1];
     int g = 0;
-    small_partition(sm, a, n, (int)kmax, lo, hi, starts, &g);
+    small_partition(sm, a, n, choose_k(s, n, level), lo, hi, starts, &g);
     starts[g] = a + n;
     for (int j = 1; j < g; j++) s->mark[sm->first + starts[j]] = (uint8_t)level;
     if (level == 1) return;
@@ -693,10 +739,10 @@ static void build_small(const sah *s, uint32_t first, uint32_t n, int level)
     for (uint32_t i = 0; i < n; i++) v[i] = sm.id[sm.list[0][i]];
 }
 
-/* The node on `level` holding idx[first .. first + n), centre bounds cb.
- * It is as wide as the capacities allow: k = min(M, floor(n / lo)) children
- * (measured against the fewest, ceil(n / hi), and halfway between: the
- * widest gave the least SAH cost and the fastest rays on every scene). */
+/* The node on `level` holding idx[first .. first + n), centre bounds cb,
+ * with choose_k's children (the widest node at every level, measured
+ * earlier against the fewest, ceil(n / hi), and halfway between, had been
+ * the best of those three rules). */
 static void build_node(const sah *s, uint32_t first, uint32_t n, int level, const float cb[6])
 {
     if (n <= SWEEP_MAX) {
@@ -704,9 +750,7 @@ static void build_node(const sah *s, uint32_t first, uint32_t n, int level, cons
         return;
     }
     const uint64_t lo = s->lo[level - 1], hi = s->hi[level - 1];
-    uint64_t kmax = n / lo;
-    if (kmax > (uint64_t)s->M) kmax = (uint64_t)s->M;
-    const int k = (int)kmax;
+    const int k = choose_k(s, n, level);
     group grp[TT_RT_MAX_M + 1];
     const int g = k;
     partition(s, s->idx + first, first, n, k, lo, hi, cb, grp, 0);
@@ -742,6 +786,10 @@ static tt_status sah_run(sah *s, tt_context *ctx, const tt_rtree_options *opt,
         s->hi[l] = l == 0 ? (uint64_t)opt->M : s->hi[l - 1] * (uint64_t)opt->M;
         if (s->lo[l] > ((uint64_t)1 << 40)) s->lo[l] = (uint64_t)1 << 40; /* beyond any T */
         if (s->hi[l] > ((uint64_t)1 << 40)) s->hi[l] = (uint64_t)1 << 40;
+        /* aim 0: the widest nodes (choose_k) */
+        s->aim[l] = l == 0 ? (opt->M / LEAF_AIM_DIV > opt->m ? (uint64_t)(opt->M / LEAF_AIM_DIV) : 0)
+                           : s->aim[l - 1] * (uint64_t)opt->M;
+        if (s->aim[l] > ((uint64_t)1 << 40)) s->aim[l] = (uint64_t)1 << 40;
     }
     while (s->hi[L] < T) L++;
     s->root_level = L;
