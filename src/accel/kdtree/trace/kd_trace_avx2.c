@@ -17,7 +17,6 @@
 #include "accel/stats_variant.h"
 #include "accel/kdtree/trace/kd_trace.h"
 #include "accel/kdtree/kd_lines.h"
-#define KD_LINES_SIMD
 #include "accel/kdtree/trace/kd_trace_lines.h"
 
 void tt_kd_avx2_intersect(const tt_kd_view *T, int traversal, const tt_wray *r, uint32_t hint,

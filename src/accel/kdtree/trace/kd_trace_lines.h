@@ -101,15 +101,6 @@ static inline int kd_lines_htr(const tt_kd_view *T, const tt_wray *r, int any, t
     }
 }
 
-/* A unit that defines KD_LINES_SIMD walks the lines a whole line at a time
- * (kd_trace_lines_simd.h: AVX2). */
-#ifdef KD_LINES_SIMD
-#include "accel/kdtree/trace/kd_trace_lines_simd.h"
-#define KD_LINES_WALK kd_lines_simd_htr
-#else
-#define KD_LINES_WALK kd_lines_htr
-#endif
-
 /* The entry points' HTR over the lines (include after kd_trace.h): 1 when
  * they took the ray (a view with lines, HTR, a ray moving along every
  * axis), with tt_kd_intersect's / tt_kd_occluded's results; 0 to leave it
@@ -123,7 +114,7 @@ static inline int kd_lines_intersect(const tt_kd_view *T, int traversal, const t
     tt_kd_best best;
     tt_kd_best_init(&best, r);
     *end = TT_INVALID_ID;
-    KD_LINES_WALK(T, r, 0, &best);
+    kd_lines_htr(T, r, 0, &best);
     tt_kd_best_store(&best, hit);
     return 1;
 }
@@ -142,6 +133,6 @@ static inline int kd_lines_occluded(const tt_kd_view *T, int traversal, const tt
         return 1;
     }
     *end = TT_INVALID_ID;
-    *occluded = KD_LINES_WALK(T, r, 1, &best);
+    *occluded = kd_lines_htr(T, r, 1, &best);
     return 1;
 }
