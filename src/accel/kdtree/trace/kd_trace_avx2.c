@@ -45,7 +45,25 @@ int tt_kd_avx2_occluded(const tt_kd_view *T, int traversal, const tt_wray *r, ui
 /* The rows form (the batch calls' single rays); a view without leaf
  * blocks goes to the scalar kernel's, as above. */
 #include "accel/kdtree/trace/kd_rows.h"
-KD_DEFINE_ROWS(kd_avx2_rows_blocks, tt_kd_intersect, tt_kd_occluded)
+/* The rows take the line walk too, as the entry points above do (they
+ * used to call the template's walk over the block copy's nodes). */
+static inline void kd_avx2_rows_intersect(const tt_kd_view *T, int traversal, const tt_wray *r,
+                                          uint32_t hint, tt_hit *hit, uint32_t *end,
+                                          tt_ray_stats *stats)
+{
+    if (kd_lines_intersect(T, traversal, r, hit, end)) return;
+    tt_kd_intersect(T, traversal, r, hint, hit, end, stats);
+}
+
+static inline int kd_avx2_rows_occluded(const tt_kd_view *T, int traversal, const tt_wray *r,
+                                        uint32_t hint, uint32_t caster, uint32_t *end,
+                                        tt_ray_stats *stats)
+{
+    int occ;
+    if (kd_lines_occluded(T, traversal, r, caster, end, &occ)) return occ;
+    return tt_kd_occluded(T, traversal, r, hint, caster, end, stats);
+}
+KD_DEFINE_ROWS(kd_avx2_rows_blocks, kd_avx2_rows_intersect, kd_avx2_rows_occluded)
 
 void tt_kd_avx2_rows(const tt_kd_view *T, int traversal, const struct tt_packet_rays *rays,
                     int any, uint32_t hint, tt_hit *hits, uint8_t *occ)
