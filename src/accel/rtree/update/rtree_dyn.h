@@ -144,14 +144,11 @@ tt_status rt_dyn_sync(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *s
  * (rtree_dyn_region.c); with c, the leaves that came from another region
  * since the last sync lose their slots there (lanes cleared). Then, after
  * every touched node's need: their lanes and references written there,
- * only the leaves that changed or have no slot in it yet (the blocks they
- * fill added to *blocks_written; 0: they do not fit, an internal error,
- * nothing written). It writes only n's region and n's leaves' places, so
- * the sync writes several level-1 nodes at once on threads. A freed leaf's
+ * only the leaves that changed or have no slot in it yet. A freed leaf's
  * slot (pend_slot) cleared by rt_dyn_slot_clear. */
 uint32_t rt_dyn_region_need(rt_dyn *d, const tt_rtc *c, uint32_t n);
-int rt_dyn_region_write(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
-                        uint32_t *ref, uint64_t *blocks_written);
+tt_status rt_dyn_region_write(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
+                              uint32_t *ref);
 void rt_dyn_slot_clear(const tt_rtc *c, uint32_t packed);
 /* Node n left the pointer tree: its group or region waits for the sync. */
 void rt_dyn_release(rt_dyn *d, uint32_t n);

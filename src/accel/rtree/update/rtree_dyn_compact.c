@@ -5,7 +5,6 @@
  * the layout go through the two writers at the end, so a change of the
  * node record touches only them. */
 #include <math.h>
-#include <omp.h>
 #include <string.h>
 
 #include "accel/rtree/rtree_box.h"
@@ -315,10 +314,6 @@ void rt_dyn_write_all_boxes(rt_dyn *d, rtc_tree *t, int threads)
 /* ------------------------------------------------- the slack layout */
 
 #define REG_CLASS_SHIFT 26
-/* Touched nodes from which the sync writes level-1 nodes on threads: an
- * edits frame of 1% touches ~1.4k on bunny (the sync about half of the
- * update), ~10k on conference; a few moves stay on the calling thread. */
-#define RT_DYN_SYNC_THREADED 1024
 
 static tt_status push(tt_context *ctx, uint32_t **a, uint32_t *count, uint32_t *cap, uint32_t v)
 {
@@ -532,13 +527,9 @@ static void set_boxes(const tt_rtc *c, float *rec, const float *box, uint32_t st
 }
 
 /* Interior node n's record at its place: header, boxes, references; a
- * level-1 node's leaves into its region; children records elsewhere than
- * their slot in n's group are touched (written later in the same sync).
- * A level-1 node touches nothing and writes only its own record, region
- * and leaves' places: the sync writes those on threads. Returns 0 where
- * a level-1 node's leaves do not fit its region (an internal error). */
-static int write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
-                      uint64_t *blocks)
+ * level-1 node's region written whole; children records elsewhere than
+ * their slot in n's group are touched (written later in the same sync). */
+static tt_status write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n)
 {
     const rt_builder *b = &d->b;
     const uint32_t r = lay_pos(d, n), cnt = b->hdr[n].count, level = b->hdr[n].level;
@@ -551,6 +542,7 @@ static int write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_
     set_boxes(c, rec, rt_node_box(b, n), (uint32_t)b->cap, cnt, old);
     ref[c->S] = n == b->root ? TT_INVALID_ID : lay_pos(d, b->hdr[n].parent);
     ref[c->S + 1] = cnt | level << 8;
+    d->last_records++;
     if (level >= 2) {
         const uint32_t g = d->grp_of[n], *ch = rt_node_child(b, n);
         for (uint32_t i = 0; i < cnt; i++) {
@@ -561,11 +553,12 @@ static int write_node(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_
         }
         for (uint32_t i = cnt; i < d->grp_hi[n]; i++) record_clear(c, g + i);
         d->grp_hi[n] = (uint8_t)cnt;
-    } else if (!rt_dyn_region_write(d, c, scene, n, ref, blocks)) {
-        return 0;
+    } else {
+        tt_status st = rt_dyn_region_write(d, c, scene, n, ref);
+        if (st != TT_OK) return st;
     }
     for (uint32_t i = cnt; i < old; i++) ref[i] = TT_INVALID_ID;
-    return 1;
+    return TT_OK;
 }
 
 /* A compaction: fresh arrays sized to the tree (with a quarter to grow
@@ -676,36 +669,12 @@ tt_status rt_dyn_sync(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *s
         else if (b->hdr[n].level == 1)
             st = fit_region(d, t, n);
     }
-    /* 2. the touched nodes' records above level 1 (children that moved
-     *    join the list), then level 1's: records, regions and leaves of
-     *    their own, disjoint, so on the threads when there are many. Each
-     *    node's writes depend only on its own state as step 1 left it, so
-     *    the layout is the same on any number of threads. */
-    uint64_t records = 0, blocks = 0;
-    for (uint32_t k = 0; k < d->touch_count; k++) {
+    /* 2. the touched nodes' records (children that moved join the list) */
+    for (uint32_t k = 0; k < d->touch_count && st == TT_OK; k++) {
         const uint32_t n = d->touch_list[k];
-        if (n >= d->rec_cap || b->hdr[n].pad || b->hdr[n].level < 2) continue;
-        write_node(d, &t->c, scene, n, &blocks);
-        records++;
+        if (n >= d->rec_cap || b->hdr[n].pad || b->hdr[n].level == 0) continue;
+        st = write_node(d, &t->c, scene, n);
     }
-    const long touched = (long)d->touch_count;
-    const int threads = touched < RT_DYN_SYNC_THREADED ? 1
-                        : tt_context_threads(ctx) > 0 ? tt_context_threads(ctx)
-                                                      : omp_get_max_threads();
-    long unfit = -1; /* a level-1 node whose leaves do not fit its region */
-#pragma omp parallel for schedule(dynamic, 32) num_threads(threads) if (threads > 1) \
-    reduction(+ : records, blocks) reduction(max : unfit)
-    for (long k = 0; k < touched; k++) {
-        const uint32_t n = d->touch_list[k];
-        if (n >= d->rec_cap || b->hdr[n].pad || b->hdr[n].level != 1) continue;
-        if (!write_node(d, &t->c, scene, n, &blocks)) unfit = (long)n;
-        records++;
-    }
-    d->last_records = records;
-    d->last_blocks = blocks;
-    if (unfit >= 0)
-        st = tt_error(ctx, TT_ERR_INTERNAL,
-                      "rtree update: the leaves of node %ld do not fit its region", unfit);
     for (uint32_t k = 0; k < d->touch_count; k++) d->touched[d->touch_list[k]] = 0;
     d->touch_count = 0;
     if (st == TT_OK && d->touch_oom)

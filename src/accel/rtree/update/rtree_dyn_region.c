@@ -172,8 +172,8 @@ static int lay_out(const rt_builder *b, uint32_t n, uint32_t blocks, uint32_t li
     return 1;
 }
 
-int rt_dyn_region_write(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
-                        uint32_t *ref, uint64_t *blocks_written)
+tt_status rt_dyn_region_write(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint32_t n,
+                              uint32_t *ref)
 {
     const rt_builder *b = &d->b;
     const uint32_t *ch = rt_node_child(b, n);
@@ -229,7 +229,9 @@ int rt_dyn_region_write(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint3
             set_add(set, slot[i], sl);
         }
         if (!ok) {
-            if (!lay_out(b, n, blocks, lim, slot, set)) return 0; /* nothing written */
+            if (!lay_out(b, n, blocks, lim, slot, set)) /* cannot happen: see lay_out */
+                return tt_error(b->ctx, TT_ERR_INTERNAL,
+                                "rtree update: the leaves of node %u do not fit its region", n);
             nw = 0;
             for (int i = 0; i < cnt; i++) { /* every slot handed out again */
                 keep[i] = keep[i] == 2 && base + slot[i] == d->grp_of[ch[i]] ? 3 : 0;
@@ -266,7 +268,7 @@ int rt_dyn_region_write(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint3
             bk->prim[lane] = id[q];
             d->lane_of[id[q]] = (uint32_t)g;
         }
-        *blocks_written += tt_tri_block_count(k); /* its slot's blocks */
+        d->last_blocks += tt_tri_block_count(k); /* its slot's blocks, written */
         if (keep[i] == 1) { /* it may have shrunk: the rest of its slot */
             slot_clear(c, g0 + k, d->grp_hi[l] - k);
         } else {
@@ -275,5 +277,5 @@ int rt_dyn_region_write(rt_dyn *d, const tt_rtc *c, const tt_scene *scene, uint3
             d->rec_of[l] = n;
         }
     }
-    return 1;
+    return TT_OK;
 }
