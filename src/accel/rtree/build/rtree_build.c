@@ -471,61 +471,74 @@ static sah_cand heap_pop(sah_cand *h, int *cnt)
 
 /* rt_builder.sah_leaves: the level-1 node where box e costs least
  * (Bittner et al. 2013's search: best first by the area the path's boxes
- * grow, bounded by the least a leaf can cost, A(e)); *an its half area. */
+ * grow, bounded by the least a leaf can cost, A(e)); *an its half area.
+ * The greedy descent (least growth at each level) goes first: its cost
+ * bounds the search, and the entries it passed by go on the heap with the
+ * measures it took, so the search never measures the greedy path again
+ * (measuring it twice was a quarter of the search's instructions). */
 static uint32_t find_level1_sah(const rt_builder *b, const float e[6], float *an)
 {
     sah_cand heap[SAH_HEAP];
-    int cnt = 0, evals = 0;
+    int cnt = 0, evals = 1; /* the greedy node is the first evaluated */
     const float ae = half_area(e);
-    float best = INFINITY;
-    uint32_t best_n = TT_INVALID_ID;
     float rb[6];
     rt_node_bounds(b, b->root, rb);
-    /* the greedy descent's node first (least growth at each level): its
-     * cost bounds the search, which then pushes few candidates */
-    {
-        uint32_t n = b->root;
-        float ind = 0.0f, na = half_area(rb);
-        while (b->hdr[n].level > 1) {
-            float area[TT_RT_CAP + 3], grown[TT_RT_CAP + 3];
-            entry_measures(b, n, e, area, grown, NULL, NULL);
-            int bi = 0;
-            for (int i = 1; i < b->hdr[n].count; i++) {
-                const float d = grown[i] - area[i], db = grown[bi] - area[bi];
-                if (d < db || (d == db && area[i] < area[bi])) bi = i;
-            }
-            ind += grown[bi] - area[bi];
-            na = area[bi];
-            n = rt_node_child(b, n)[bi];
+    /* the path's nodes, their entries' measures, the greedy choice and the
+     * path's growth above them */
+    float area[TT_RT_BUILD_LEVELS][TT_RT_CAP + 3], grown[TT_RT_BUILD_LEVELS][TT_RT_CAP + 3];
+    uint32_t path[TT_RT_BUILD_LEVELS];
+    float path_ind[TT_RT_BUILD_LEVELS];
+    int pick[TT_RT_BUILD_LEVELS], depth = 0;
+    uint32_t n = b->root;
+    float ind = 0.0f, na = half_area(rb);
+    while (b->hdr[n].level > 1) {
+        float *ar = area[depth], *gr = grown[depth];
+        entry_measures(b, n, e, ar, gr, NULL, NULL);
+        int bi = 0;
+        for (int i = 1; i < b->hdr[n].count; i++) {
+            const float d = gr[i] - ar[i], db = gr[bi] - ar[bi];
+            if (d < db || (d == db && ar[i] < ar[bi])) bi = i;
         }
-        float lc;
-        choose_leaf_sah(b, n, e, ae, na, &lc);
-        best = ind + lc;
-        best_n = n;
-        *an = na;
+        path[depth] = n;
+        path_ind[depth] = ind;
+        pick[depth++] = bi;
+        ind += gr[bi] - ar[bi];
+        na = ar[bi];
+        n = rt_node_child(b, n)[bi];
     }
-    heap_push(heap, &cnt, (sah_cand){ae, 0.0f, half_area(rb), b->root});
+    float lc;
+    choose_leaf_sah(b, n, e, ae, na, &lc);
+    float best = ind + lc;
+    uint32_t best_n = n;
+    *an = na;
+    for (int k = 0; k < depth; k++) {
+        const uint32_t *ch = rt_node_child(b, path[k]);
+        for (int i = 0; i < b->hdr[path[k]].count; i++) {
+            const float in = path_ind[k] + (grown[k][i] - area[k][i]);
+            if (i != pick[k] && in + ae < best)
+                heap_push(heap, &cnt, (sah_cand){in + ae, in, area[k][i], ch[i]});
+        }
+    }
     while (cnt) {
         const sah_cand c = heap_pop(heap, &cnt);
-        if (c.lb >= best) break;
-        const uint32_t n = c.n;
-        if (b->hdr[n].level == 1) {
-            float lc;
-            choose_leaf_sah(b, n, e, ae, c.area, &lc);
+        if (c.lb >= best || evals >= b->sah_max_evals) break;
+        const uint32_t m = c.n;
+        if (b->hdr[m].level == 1) {
+            choose_leaf_sah(b, m, e, ae, c.area, &lc);
             if (c.ind + lc < best) {
                 best = c.ind + lc;
-                best_n = n;
+                best_n = m;
                 *an = c.area;
             }
-            if (++evals >= b->sah_max_evals) break;
+            evals++;
             continue;
         }
-        float area[TT_RT_CAP + 3], grown[TT_RT_CAP + 3];
-        entry_measures(b, n, e, area, grown, NULL, NULL);
-        const uint32_t *ch = rt_node_child(b, n);
-        for (int i = 0; i < b->hdr[n].count; i++) {
-            const float ind = c.ind + (grown[i] - area[i]);
-            if (ind + ae < best) heap_push(heap, &cnt, (sah_cand){ind + ae, ind, area[i], ch[i]});
+        float ar[TT_RT_CAP + 3], gr[TT_RT_CAP + 3];
+        entry_measures(b, m, e, ar, gr, NULL, NULL);
+        const uint32_t *ch = rt_node_child(b, m);
+        for (int i = 0; i < b->hdr[m].count; i++) {
+            const float in = c.ind + (gr[i] - ar[i]);
+            if (in + ae < best) heap_push(heap, &cnt, (sah_cand){in + ae, in, ar[i], ch[i]});
         }
     }
     return best_n;

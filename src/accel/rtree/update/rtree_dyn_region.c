@@ -229,7 +229,9 @@ tt_status rt_dyn_region_write(rt_dyn *d, const tt_rtc *c, const tt_scene *scene,
             set_add(set, slot[i], sl);
         }
         if (!ok) {
-            if (!lay_out(b, n, blocks, lim, slot, set)) return 0;
+            if (!lay_out(b, n, blocks, lim, slot, set)) /* cannot happen: see lay_out */
+                return tt_error(b->ctx, TT_ERR_INTERNAL,
+                                "rtree update: the leaves of node %u do not fit its region", n);
             nw = 0;
             for (int i = 0; i < cnt; i++) { /* every slot handed out again */
                 keep[i] = keep[i] == 2 && base + slot[i] == d->grp_of[ch[i]] ? 3 : 0;
