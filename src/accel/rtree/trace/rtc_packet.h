@@ -195,22 +195,6 @@ TT_RT_INLINE pk_cbox pk_child_box(const float *box, const uint32_t nr[3], const 
     return b;
 }
 
-/* An occlusion packet's rays as the single-ray FMA box test takes them
- * (rtc_box_x86.h, rtc_lanes_init: its widenings folded into per-ray
- * constants), lane l of each row for ray l: a child test is then six
- * fused operations, the min/max accumulation and one compare, against
- * the subtract-multiply form's twelve operations and the widening of the
- * far distance. rn, rf: rcp scaled by the near / far factors; cn, cf:
- * -org rcp scaled, minus / plus the pad; tn: tmin scaled by the near
- * factor. An axis whose scaled constants would overflow is NaN (ignored by
- * the accumulation: no culling on it), as in rtc_lanes_init. */
-typedef struct pk_occ_rays {
-    _Alignas(64) float rn[3][32];
-    _Alignas(64) float rf[3][32];
-    _Alignas(64) float cn[3][32];
-    _Alignas(64) float cf[3][32];
-    _Alignas(64) float tn[32];
-} pk_occ_rays;
 #endif
 
 /* Block b's triangles against the rays of group g in lanes m (nonzero).
@@ -596,33 +580,6 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
     }
 }
 
-/* The occlusion packet's per-ray box constants (pk_occ_rays), a group at a
- * time, with rtc_lanes_init's operations lane by lane. The far
- * accumulation starts at the ray's tcut (>= tmax), not the float below
- * tmax: a superset of the single-ray test's boxes, so every box holding
- * an occluder in range is entered (the interval test's bound is tcut too). */
-TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_occ_rays))(const pk_rays *P, pk_occ_rays *L)
-{
-    const pk_v near = PK_SET1(1.0f - 1.0f / 65536.0f), far = PK_SET1(1.0f + 1.0f / 2097152.0f);
-    const pk_v padf = PK_SET1(1.0f / 2097152.0f), xf = PK_SET1(1.0f + 1.0f / 524288.0f);
-    const pk_v inf = PK_SET1(TT_INF), nan = PK_SET1(NAN), zero = PK_SET1(0.0f);
-    const float *const orow[3] = {P->ox, P->oy, P->oz}, *const rrow[3] = {P->rx, P->ry, P->rz};
-    for (uint32_t o = 0; o < P->groups * PK_L; o += PK_L) {
-        for (int k = 0; k < 3; k++) {
-            const pk_v r = PK_LOAD(rrow[k] + o), x = PK_MUL(PK_LOAD(orow[k] + o), r);
-            const pk_v pad = PK_MUL(PK_ABS(x), padf);
-            /* rcp is finite here (rtc_pk_trace checks P->ia) */
-            const pk_m fused = PK_MAND(PK_CMP_LT(PK_MUL(PK_ABS(r), far), inf),
-                                       PK_CMP_LT(PK_MUL(PK_ABS(x), xf), inf));
-            PK_STORE(L->rn[k] + o, PK_BLEND(fused, nan, PK_MUL(r, near)));
-            PK_STORE(L->rf[k] + o, PK_BLEND(fused, nan, PK_MUL(r, far)));
-            PK_STORE(L->cn[k] + o, PK_BLEND(fused, nan, PK_SUB(PK_SUB(zero, PK_MUL(x, near)), pad)));
-            PK_STORE(L->cf[k] + o, PK_BLEND(fused, nan, PK_ADD(PK_SUB(zero, PK_MUL(x, far)), pad)));
-        }
-        PK_STORE(L->tn + o, PK_MUL(PK_LOAD(P->tmin + o), near));
-    }
-}
-
 /* Occlusion packets are at most 32 rays (PK_OCC_CHUNK): their active rays
  * fit one 32-bit mask, bit l for lane l (group g's lanes at g * PK_L), so
  * the walk's bookkeeping is word operations: a node's live rays, a
@@ -644,8 +601,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
     uint32_t m = valid, done = 0;
     TT_VARIANT(RTC_FN(pk_consts)) A;
     TT_VARIANT(RTC_FN(rtc_pk_consts))(P, S, &A);
-    pk_occ_rays L;
-    TT_VARIANT(RTC_FN(rtc_pk_occ_rays))(P, &L);
+    const pk_v c1 = PK_SET1(1.0f / 4194304.0f);
     (void)stats;
     for (;;) {
         /* rays answered since this entry was pushed drop out */
@@ -680,16 +636,22 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
                     const uint32_t mg = m >> (g * PK_L) & PK_LANES;
                     if (!mg) continue;
                     const uint32_t o = g * PK_L;
-                    const pk_v tnx = PK_FMA(cb.n[0], PK_LOAD(L.rn[0] + o), PK_LOAD(L.cn[0] + o));
-                    const pk_v tny = PK_FMA(cb.n[1], PK_LOAD(L.rn[1] + o), PK_LOAD(L.cn[1] + o));
-                    const pk_v tnz = PK_FMA(cb.n[2], PK_LOAD(L.rn[2] + o), PK_LOAD(L.cn[2] + o));
-                    const pk_v tfx = PK_FMA(cb.f[0], PK_LOAD(L.rf[0] + o), PK_LOAD(L.cf[0] + o));
-                    const pk_v tfy = PK_FMA(cb.f[1], PK_LOAD(L.rf[1] + o), PK_LOAD(L.cf[1] + o));
-                    const pk_v tfz = PK_FMA(cb.f[2], PK_LOAD(L.rf[2] + o), PK_LOAD(L.cf[2] + o));
-                    const pk_v entry = PK_MAX(tnz, PK_MAX(tny, PK_MAX(tnx, PK_LOAD(L.tn + o))));
-                    const pk_v far =
+                    const pk_v ox = PK_LOAD(P->ox + o), oy = PK_LOAD(P->oy + o),
+                               oz = PK_LOAD(P->oz + o);
+                    const pk_v ix = PK_LOAD(P->rx + o), iy = PK_LOAD(P->ry + o),
+                               iz = PK_LOAD(P->rz + o);
+                    const pk_v tnx = PK_MUL(PK_SUB(cb.n[0], ox), ix);
+                    const pk_v tny = PK_MUL(PK_SUB(cb.n[1], oy), iy);
+                    const pk_v tnz = PK_MUL(PK_SUB(cb.n[2], oz), iz);
+                    const pk_v tfx = PK_MUL(PK_SUB(cb.f[0], ox), ix);
+                    const pk_v tfy = PK_MUL(PK_SUB(cb.f[1], oy), iy);
+                    const pk_v tfz = PK_MUL(PK_SUB(cb.f[2], oz), iz);
+                    const pk_v tn =
+                        PK_MAX(tnz, PK_MAX(tny, PK_MAX(tnx, PK_LOAD(P->tmin + o))));
+                    const pk_v tc =
                         PK_MIN(tfz, PK_MIN(tfy, PK_MIN(tfx, PK_LOAD(P->tcut + o))));
-                    h |= (PK_BITS(PK_CMP_LE(entry, far)) & mg) << o;
+                    const pk_v tfc = PK_ADD(tc, PK_MUL(PK_ABS(tc), c1));
+                    h |= (PK_BITS(PK_CMP_LE(tn, tfc)) & mg) << o;
                 }
                 if (!h) continue;
                 const float te = tpk[c];

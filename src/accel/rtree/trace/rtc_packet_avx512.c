@@ -24,7 +24,6 @@ typedef __mmask16 pk_m;
 #define PK_SUB _mm512_sub_ps
 #define PK_MUL _mm512_mul_ps
 #define PK_DIV _mm512_div_ps
-#define PK_FMA _mm512_fmadd_ps /* a b + c, one rounding (the occlusion box test) */
 /* max/min(candidate, accumulator) return the accumulator on NaN, as
  * tt_slab_near / tt_slab_far and the single-ray kernels */
 #define PK_MIN _mm512_min_ps
