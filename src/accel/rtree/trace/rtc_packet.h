@@ -176,6 +176,25 @@ _Static_assert(PK_OCC_CHUNK <= 32u, "an occlusion packet's rays fit a 32-bit mas
 typedef struct pk_oentry {
     uint32_t node, level, m;
 } pk_oentry;
+
+/* A child's box broadcast to every lane: its near planes n[k] and far
+ * planes f[k] by the octant's rows (offsets nr, fr: rtc_pk_consts), which
+ * both walks test against one group of rays after another. */
+typedef struct pk_cbox {
+    pk_v n[3], f[3];
+} pk_cbox;
+
+TT_RT_INLINE pk_cbox pk_child_box(const float *box, const uint32_t nr[3], const uint32_t fr[3],
+                                   uint32_t c)
+{
+    pk_cbox b;
+    for (int k = 0; k < 3; k++) {
+        b.n[k] = PK_SET1(box[nr[k] + c]);
+        b.f[k] = PK_SET1(box[fr[k] + c]);
+    }
+    return b;
+}
+
 #endif
 
 /* Block b's triangles against the rays of group g in lanes m (nonzero).
@@ -407,10 +426,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
         while (cand) {
             const uint32_t c = (uint32_t)__builtin_ctz(cand);
             cand &= cand - 1;
-            const pk_v bnx = PK_SET1(box[A.nr[0] + c]), bny = PK_SET1(box[A.nr[1] + c]),
-                       bnz = PK_SET1(box[A.nr[2] + c]);
-            const pk_v bfx = PK_SET1(box[A.fr[0] + c]), bfy = PK_SET1(box[A.fr[1] + c]),
-                       bfz = PK_SET1(box[A.fr[2] + c]);
+            const pk_cbox cb = pk_child_box(box, A.nr, A.fr, c);
             pk_v vmin = inf;
             uint32_t g0 = PK_G, g1 = 0;
             uint32_t *mk = cm[nh];
@@ -421,12 +437,12 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                 const uint32_t o = g * PK_L;
                 const pk_v ox = PK_LOAD(P->ox + o), oy = PK_LOAD(P->oy + o), oz = PK_LOAD(P->oz + o);
                 const pk_v ix = PK_LOAD(P->rx + o), iy = PK_LOAD(P->ry + o), iz = PK_LOAD(P->rz + o);
-                const pk_v tnx = PK_MUL(PK_SUB(bnx, ox), ix);
-                const pk_v tny = PK_MUL(PK_SUB(bny, oy), iy);
-                const pk_v tnz = PK_MUL(PK_SUB(bnz, oz), iz);
-                const pk_v tfx = PK_MUL(PK_SUB(bfx, ox), ix);
-                const pk_v tfy = PK_MUL(PK_SUB(bfy, oy), iy);
-                const pk_v tfz = PK_MUL(PK_SUB(bfz, oz), iz);
+                const pk_v tnx = PK_MUL(PK_SUB(cb.n[0], ox), ix);
+                const pk_v tny = PK_MUL(PK_SUB(cb.n[1], oy), iy);
+                const pk_v tnz = PK_MUL(PK_SUB(cb.n[2], oz), iz);
+                const pk_v tfx = PK_MUL(PK_SUB(cb.f[0], ox), ix);
+                const pk_v tfy = PK_MUL(PK_SUB(cb.f[1], oy), iy);
+                const pk_v tfz = PK_MUL(PK_SUB(cb.f[2], oz), iz);
                 const pk_v tn = PK_MAX(tnz, PK_MAX(tny, PK_MAX(tnx, PK_LOAD(P->tmin + o))));
                 if (lean) {
                     const pk_v tc = PK_MIN(tfz, PK_MIN(tfy, PK_MIN(tfx, PK_LOAD(P->tcut + o))));
@@ -583,9 +599,9 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
     uint32_t node = 0, level = t->height, valid = 0;
     for (uint32_t g = 0; g < P->groups; g++) valid |= P->valid[g] << (g * PK_L);
     uint32_t m = valid, done = 0;
-    const pk_v c1 = PK_SET1(1.0f / 4194304.0f);
     TT_VARIANT(RTC_FN(pk_consts)) A;
     TT_VARIANT(RTC_FN(rtc_pk_consts))(P, S, &A);
+    const pk_v c1 = PK_SET1(1.0f / 4194304.0f);
     (void)stats;
     for (;;) {
         /* rays answered since this entry was pushed drop out */
@@ -614,10 +630,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
             while (cand) {
                 const uint32_t c = (uint32_t)__builtin_ctz(cand);
                 cand &= cand - 1;
-                const pk_v bnx = PK_SET1(box[A.nr[0] + c]), bny = PK_SET1(box[A.nr[1] + c]),
-                           bnz = PK_SET1(box[A.nr[2] + c]);
-                const pk_v bfx = PK_SET1(box[A.fr[0] + c]), bfy = PK_SET1(box[A.fr[1] + c]),
-                           bfz = PK_SET1(box[A.fr[2] + c]);
+                const pk_cbox cb = pk_child_box(box, A.nr, A.fr, c);
                 uint32_t h = 0;
                 for (uint32_t g = 0; g < PK_OG; g++) {
                     const uint32_t mg = m >> (g * PK_L) & PK_LANES;
@@ -627,12 +640,12 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
                                oz = PK_LOAD(P->oz + o);
                     const pk_v ix = PK_LOAD(P->rx + o), iy = PK_LOAD(P->ry + o),
                                iz = PK_LOAD(P->rz + o);
-                    const pk_v tnx = PK_MUL(PK_SUB(bnx, ox), ix);
-                    const pk_v tny = PK_MUL(PK_SUB(bny, oy), iy);
-                    const pk_v tnz = PK_MUL(PK_SUB(bnz, oz), iz);
-                    const pk_v tfx = PK_MUL(PK_SUB(bfx, ox), ix);
-                    const pk_v tfy = PK_MUL(PK_SUB(bfy, oy), iy);
-                    const pk_v tfz = PK_MUL(PK_SUB(bfz, oz), iz);
+                    const pk_v tnx = PK_MUL(PK_SUB(cb.n[0], ox), ix);
+                    const pk_v tny = PK_MUL(PK_SUB(cb.n[1], oy), iy);
+                    const pk_v tnz = PK_MUL(PK_SUB(cb.n[2], oz), iz);
+                    const pk_v tfx = PK_MUL(PK_SUB(cb.f[0], ox), ix);
+                    const pk_v tfy = PK_MUL(PK_SUB(cb.f[1], oy), iy);
+                    const pk_v tfz = PK_MUL(PK_SUB(cb.f[2], oz), iz);
                     const pk_v tn =
                         PK_MAX(tnz, PK_MAX(tny, PK_MAX(tnx, PK_LOAD(P->tmin + o))));
                     const pk_v tc =
