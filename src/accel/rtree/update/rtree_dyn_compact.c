@@ -9,17 +9,8 @@
 
 #include "accel/rtree/rtree_box.h"
 #include "accel/rtree/update/rtree_dyn.h"
-#include "core/huge_pages.h"
 
 static void map_all(rt_dyn *d, const tt_rtc *c);
-
-/* The node pool's boxes and children on huge pages (core/huge_pages.h):
- * an edits frame visits nodes all over it. */
-static void advise_pool(const rt_builder *b)
-{
-    tt_advise_huge_pages(b->box, (size_t)b->node_cap * 6 * (size_t)b->cap * sizeof(float));
-    tt_advise_huge_pages(b->child, (size_t)b->node_cap * (size_t)b->cap * sizeof(uint32_t));
-}
 
 /* Entry (e, c) appended to node n, parent links kept. */
 static void put_entry(rt_builder *b, uint32_t n, const float e[6], uint32_t c)
@@ -83,20 +74,8 @@ tt_status rt_dyn_from_compact(rt_dyn *d, tt_context *ctx, const tt_rtree_options
      * 76.1; fresh build 19.8); after 10 frames 29.9 against 28.6. */
     tt_rtree_options oo = *o;
     if (o->build != TT_RTREE_BUILD_INSERT) oo.strategy = TT_RTREE_MIN_SURFACE;
-    /* the pool sized to the layout's nodes up front (the builder's guess
-     * is 2 / M nodes a triangle; the SAH loader's leaves hold ~2), so that
-     * all of it takes huge pages before a node is written */
-    uint64_t nodes = c->nodes + 64;
-    for (uint32_t r = 0; r < c->nodes; r++) {
-        const float *rec = tt_rtc_node(c, r);
-        if (!tt_rtc_is_free(c, rec) && tt_rtc_level(c, rec) == 1) nodes += tt_rtc_count(c, rec);
-    }
-    uint64_t hint = nodes * (uint64_t)o->M / 2;
-    if (hint < scene->triangle_count) hint = scene->triangle_count;
-    tt_status st =
-        rt_builder_init(&d->b, ctx, &oo, NULL, hint < UINT32_MAX ? (uint32_t)hint : UINT32_MAX);
+    tt_status st = rt_builder_init(&d->b, ctx, &oo, NULL, (uint32_t)scene->triangle_count);
     if (st != TT_OK) return st;
-    advise_pool(&d->b);
     d->b.free_count = 0;
     d->b.node_count = 0; /* init's empty root leaf is not wanted */
     st = rt_dyn_reserve_ids(d, scene->triangle_count ? scene->triangle_count : 1);
@@ -415,7 +394,6 @@ static tt_status lay_reserve(rt_dyn *d, rtc_tree *t, uint64_t records, uint64_t 
         void *raw = tt_alloc(ctx, (size_t)cap * rb + 63);
         if (!raw) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
         float *node = (float *)(((uintptr_t)raw + 63) & ~(uintptr_t)63);
-        tt_advise_huge_pages(raw, (size_t)cap * rb + 63); /* before the copy touches it */
         if (c->node) memcpy(node, c->node, (size_t)c->nodes * rb);
         tt_free(ctx, t->node_mem);
         t->node_mem = raw;
@@ -427,7 +405,6 @@ static tt_status lay_reserve(rt_dyn *d, rtc_tree *t, uint64_t records, uint64_t 
         void *raw = tt_alloc(ctx, (size_t)cap * sizeof(tt_tri_block) + 63);
         if (!raw) return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
         tt_tri_block *bk = (tt_tri_block *)(((uintptr_t)raw + 63) & ~(uintptr_t)63);
-        tt_advise_huge_pages(raw, (size_t)cap * sizeof(tt_tri_block) + 63);
         if (c->block) memcpy(bk, c->block, (size_t)c->blocks * sizeof(tt_tri_block));
         tt_free(ctx, t->block_mem);
         t->block_mem = raw;

@@ -5,7 +5,6 @@
 
 #include "accel/rtree/rtree_box.h"
 #include "accel/rtree/update/rtree_dyn.h"
-#include "core/huge_pages.h"
 
 #define NODE_FREE 1u /* rt_node_hdr.pad: the node is on the free list */
 
@@ -34,10 +33,6 @@ tt_status rt_dyn_node_arrays(rt_dyn *d)
     const uint32_t need = d->b.node_cap;
     if (need <= d->rec_cap) return TT_OK;
     tt_context *ctx = d->b.ctx;
-    /* the pool grew: its new part (untouched but for a node) on huge
-     * pages, as rt_dyn_from_compact asked for the first */
-    tt_advise_huge_pages(d->b.box, (size_t)need * 6 * (size_t)d->b.cap * sizeof(float));
-    tt_advise_huge_pages(d->b.child, (size_t)need * (size_t)d->b.cap * sizeof(uint32_t));
     uint32_t *rec = tt_realloc_array(ctx, d->rec_of, need, sizeof *rec);
     if (rec) d->rec_of = rec;
     uint8_t *dirty = rec ? tt_realloc_array(ctx, d->dirty, need, 1) : NULL;
