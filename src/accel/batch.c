@@ -316,22 +316,30 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                 tt_end_box eb;
                 tt_dir_box_init(&db);
                 tt_end_box_init(&eb);
-                size_t seen = 0, next = 0;
+                size_t seen = 0;
                 int hopeless = 0; /* neither test can pass: stop sampling */
-                FOR_EACH_RAY(&p, c, i) {
-                    if (hopeless) break; /* (each row's loop; a tile has 16) */
-                    /* about 32 rays of the item suffice to judge it, and
-                     * keep the test's cost to incoherent batches small
-                     * (a running target, not seen % step: an integer
-                     * division a ray is tens of cycles) */
-                    if (seen++ != next) continue;
-                    next += (len_ * rows_ + 31u) / 32u;
-                    float org[3], dir[3], tmin, tmax;
-                    load_ray(rays, i, org, dir, &tmin, &tmax);
-                    tt_dir_box_add(&db, dir);
-                    tt_end_box_add(&eb, org, dir, tmax);
-                    hopeless = tt_packet_boxes_hopeless(&db, &eb);
+                /* about 32 rays of the item suffice to judge it, and keep
+                 * the test's cost to incoherent batches small: every
+                 * step-th ray in the item's order, reached row by row
+                 * (a loop over every ray skipping the others was about 9
+                 * instructions a ray, callgrind, shadow rays) */
+                size_t first, len, nrows, pitch;
+                plan_item(&p, c, &first, &len, &nrows, &pitch);
+                const size_t step = (len * nrows + 31u) / 32u;
+                size_t next = 0; /* the next sample's place in the item */
+                for (size_t r = 0; r < nrows && !hopeless && first + r * pitch < p.n; r++) {
+                    const size_t s = first + r * pitch, e = s + len < p.n ? s + len : p.n;
+                    for (; !hopeless && next - seen < e - s; next += step) {
+                        const size_t i = s + (next - seen);
+                        float org[3], dir[3], tmin, tmax;
+                        load_ray(rays, i, org, dir, &tmin, &tmax);
+                        tt_dir_box_add(&db, dir);
+                        tt_end_box_add(&eb, org, dir, tmax);
+                        hopeless = tt_packet_boxes_hopeless(&db, &eb);
+                    }
+                    seen += e - s;
                 }
+                /* (seen: the item's rays, unless a sample gave up) */
                 packet = !hopeless && seen >= TT_PACKET_MIN && tt_packet_boxes_coherent(&db, &eb);
             }
             if (packet || rows) {

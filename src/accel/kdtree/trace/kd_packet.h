@@ -70,6 +70,7 @@
 #define KP_K 2u
 #endif
 #define KP_RAYS (KP_K * PK_L) /* rays per walk */
+_Static_assert(KP_K * PK_L <= 32, "a walk's lanes fit one 32-bit word (kp_walk)");
 /* (Finishing a walk's subtree ray by ray once one ray is left in it, with
  * scalar steps, measured level with the vector steps; two or three rays
  * left measured 5-10% slower: not kept.) */
@@ -83,6 +84,9 @@
 #endif
 /* The 24 groups: octant * 3 + kz. */
 #define KP_GROUPS 24u
+/* a vector's lane bits all clear or all set */
+#define KP_LANES ((uint32_t)((1ull << PK_L) - 1u))
+#define KP_UNIFORM(bits) ((((bits) + 1u) & KP_LANES) <= 1u)
 
 /* One group's rays, structure of arrays; lanes past n repeat its first ray
  * and are never live. */
@@ -130,7 +134,7 @@ static inline int kp_tri_row(const tt_packet_rays *R, uint32_t j, const float *p
 #define KP_ENTRY_DEFINED
 typedef struct kp_entry {
     pk_v ta[KP_K], tb[KP_K];
-    uint32_t m[KP_K];
+    uint32_t m; /* the walk's lanes, vector j's at bit j * PK_L */
     uint32_t node;
 } kp_entry;
 #endif
@@ -396,7 +400,7 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_pairs))(const tt_kd_view *T, kp_rays *P, uint
  * walk's active lanes fit one vector, they are packed into one (PK_PERM2)
  * and the leaf is tested once instead of once per vector. */
 KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint32_t v0,
-                                             const uint32_t *m, tt_kd_node leaf, const int any,
+                                             const uint32_t m, tt_kd_node leaf, const int any,
                                              tt_packet_stats *stats)
 {
     const uint32_t count = tt_kd_leaf_count(leaf.bits);
@@ -405,7 +409,7 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint3
 #if TT_STATS
     {
         uint64_t act = 0;
-        for (uint32_t j = 0; j < KP_K; j++) act += kp_popcount(m[j]);
+        act += kp_popcount(m);
         TT_COUNT(stats, node_visits, 1);
         TT_COUNT(stats, active_lanes, act);
         TT_COUNT(stats, rays.nodes, act);
@@ -417,7 +421,7 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint3
     const int kx = P->kx, ky = P->ky, kz = P->kz;
     uint32_t mm[KP_K], tot = 0, nz = 0;
     for (uint32_t j = 0; j < KP_K; j++) {
-        mm[j] = m[j];
+        mm[j] = m >> (j * PK_L) & KP_LANES;
         if (any) mm[j] &= ~P->done[v0 + j];
         tot += kp_popcount(mm[j]);
         nz += mm[j] != 0;
@@ -494,21 +498,27 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint3
     }
 }
 
-/* One walk: the vectors v0 .. v0 + KP_K - 1 of the group from the root. */
+/* One walk: the vectors v0 .. v0 + KP_K - 1 of the group from the root.
+ * Its lanes are one word, vector j's at bit j * PK_L (KP_K * PK_L <= 32):
+ * a node's two child masks, a stack entry's and a pop's are then word
+ * operations, not a loop over the vectors (callgrind: the per-vector mask
+ * bookkeeping was about a third of a node's instructions). */
 KP_INLINE void TT_VARIANT(KD_FN(kp_walk))(const tt_kd_view *T, kp_rays *P, uint32_t v0,
                                              const int any, tt_packet_stats *stats)
 {
     kp_entry stack[TT_KD_STACK];
     int sp = 0;
     pk_v ta[KP_K], tb[KP_K];
-    uint32_t m[KP_K], live = 0;
+    uint32_t m = 0;
     for (uint32_t j = 0; j < KP_K; j++) {
-        m[j] = P->live[v0 + j];
-        live |= m[j];
+        m |= P->live[v0 + j] << (j * PK_L);
         ta[j] = PK_LOAD(P->ta + (v0 + j) * PK_L);
         tb[j] = PK_LOAD(P->tb + (v0 + j) * PK_L);
     }
-    if (!live) return;
+    if (!m) return;
+    /* the group's direction signs, bit k for axis k */
+    const uint32_t down = (uint32_t)P->down[0] | (uint32_t)P->down[1] << 1 |
+                          (uint32_t)P->down[2] << 2;
     uint32_t node = 0;
     (void)stats;
     for (;;) {
@@ -516,8 +526,7 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_walk))(const tt_kd_view *T, kp_rays *P, uint3
         while (!tt_kd_is_leaf(n.bits)) {
 #if TT_STATS
             {
-                uint64_t act = 0;
-                for (uint32_t j = 0; j < KP_K; j++) act += kp_popcount(m[j]);
+                const uint64_t act = kp_popcount(m);
                 TT_COUNT(stats, node_visits, 1);
                 TT_COUNT(stats, active_lanes, act);
                 TT_COUNT(stats, rays.nodes, act);
@@ -526,9 +535,10 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_walk))(const tt_kd_view *T, kp_rays *P, uint3
 #endif
             const int k = tt_kd_axis(n.bits);
             const uint32_t left = tt_kd_left(node, n.bits), right = tt_kd_right(n.bits);
-            const uint32_t first = P->down[k] ? right : left, second = P->down[k] ? left : right;
+            const uint32_t dk = down >> k & 1u;
+            const uint32_t first = dk ? right : left, second = dk ? left : right;
             const pk_v split = PK_SET1(n.u.split);
-            uint32_t fm[KP_K], sm[KP_K], fany = 0, sany = 0;
+            uint32_t far_only = 0, near_only = 0;
             pk_v lo[KP_K], hi[KP_K];
             for (uint32_t j = 0; j < KP_K; j++) {
                 const uint32_t base = (v0 + j) * PK_L;
@@ -537,37 +547,31 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_walk))(const tt_kd_view *T, kp_rays *P, uint3
                 const pk_v e = PK_LOAD(P->e[k] + base);
                 lo[j] = PK_SUB(ts, e);
                 hi[j] = PK_ADD(ts, e);
-                /* HTR's branches: hi < ta the far child alone, else lo > tb
-                 * the near child alone, else both */
-                const uint32_t far_only = PK_BITS(PK_CMP_LT(hi[j], ta[j]));
-                fm[j] = m[j] & ~far_only;
-                sm[j] = m[j] & (far_only | ~PK_BITS(PK_CMP_GT(lo[j], tb[j])));
-                fany |= fm[j];
-                sany |= sm[j];
+                far_only |= PK_BITS(PK_CMP_LT(hi[j], ta[j])) << (j * PK_L);
+                near_only |= PK_BITS(PK_CMP_GT(lo[j], tb[j])) << (j * PK_L);
             }
-            if (fany && sany) {
+            /* HTR's branches: hi < ta the far child alone, else lo > tb
+             * the near child alone, else both */
+            const uint32_t fm = m & ~far_only, sm = m & (far_only | ~near_only);
+            if (fm && sm) {
                 kp_entry *e = &stack[sp++];
                 e->node = second;
+                e->m = sm;
                 for (uint32_t j = 0; j < KP_K; j++) {
-                    e->m[j] = sm[j];
                     e->ta[j] = PK_MAX(ta[j], lo[j]);
                     e->tb[j] = tb[j];
-                    m[j] = fm[j];
                     tb[j] = PK_MIN(tb[j], hi[j]);
                 }
+                m = fm;
                 node = first;
-            } else if (fany) {
+            } else if (fm) {
                 /* (lanes going near only keep tb: lo > tb there, so hi > tb) */
-                for (uint32_t j = 0; j < KP_K; j++) {
-                    m[j] = fm[j];
-                    tb[j] = PK_MIN(tb[j], hi[j]);
-                }
+                for (uint32_t j = 0; j < KP_K; j++) tb[j] = PK_MIN(tb[j], hi[j]);
+                m = fm;
                 node = first;
-            } else if (sany) {
-                for (uint32_t j = 0; j < KP_K; j++) {
-                    m[j] = sm[j];
-                    ta[j] = PK_MAX(ta[j], lo[j]);
-                }
+            } else if (sm) {
+                for (uint32_t j = 0; j < KP_K; j++) ta[j] = PK_MAX(ta[j], lo[j]);
+                m = sm;
                 node = second;
             } else {
                 goto pop;
@@ -579,16 +583,16 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_walk))(const tt_kd_view *T, kp_rays *P, uint3
         for (;;) {
             if (!sp) return;
             const kp_entry *e = &stack[--sp];
-            live = 0;
+            /* tt_kd_htr_pop: entries beginning at or past the lane's
+             * closest hit so far are dropped (occlusion: answered lanes) */
+            uint32_t drop = 0;
             for (uint32_t j = 0; j < KP_K; j++) {
                 const uint32_t base = (v0 + j) * PK_L;
-                /* tt_kd_htr_pop: entries beginning at or past the lane's
-                 * closest hit so far are dropped */
-                m[j] = e->m[j] & ~PK_BITS(PK_CMP_GE(e->ta[j], PK_LOAD(P->t + base)));
-                if (any) m[j] &= ~P->done[v0 + j];
-                live |= m[j];
+                drop |= PK_BITS(PK_CMP_GE(e->ta[j], PK_LOAD(P->t + base))) << (j * PK_L);
+                if (any) drop |= P->done[v0 + j] << (j * PK_L);
             }
-            if (live) {
+            m = e->m & ~drop;
+            if (m) {
                 node = e->node;
                 for (uint32_t j = 0; j < KP_K; j++) {
                     ta[j] = e->ta[j];
@@ -627,7 +631,21 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_load))(const tt_kd_view *T, kp_rays *P,
     }
     const uint32_t lanes = P->vecs * PK_L;
     _Alignas(64) float d[3][KP_N];
-    for (uint32_t i = 0; i < lanes; i++) {
+    uint32_t i = 0;
+    /* whole vectors of consecutive rows (the usual case: kp_group appends
+     * a tile's vectors whole) by vector loads; the scalar copy was about
+     * 27 instructions a ray (callgrind, sibenik shadows) */
+    for (; i + PK_L <= n && idx[i + PK_L - 1] - idx[i] == PK_L - 1; i += PK_L) {
+        const uint32_t j = idx[i];
+        for (uint32_t l = 0; l < PK_L; l++) P->src[i + l] = (uint16_t)(j + l);
+        for (int k = 0; k < 3; k++) {
+            PK_STORE(P->o[k] + i, PK_LOADU(R->org[k] + j));
+            PK_STORE(d[k] + i, PK_LOADU(R->dir[k] + j));
+        }
+        PK_STORE(P->tmin + i, PK_LOADU(R->tmin + j));
+        PK_STORE(P->t + i, PK_LOADU(R->tmax + j));
+    }
+    for (; i < lanes; i++) {
         const uint32_t j = i < n ? idx[i] : i0;
         P->src[i] = (uint16_t)j;
         for (int k = 0; k < 3; k++) {
@@ -749,6 +767,18 @@ void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_packet_rays *
         const uint32_t nx = PK_BITS(PK_CMP_LT(x, zero)), ny = PK_BITS(PK_CMP_LT(y, zero)),
                        nz = PK_BITS(PK_CMP_LT(z, zero));
         const uint32_t b0 = PK_BITS(m0), b1 = PK_BITS(PK_MANDNOT(m0, PK_CMP_GE(ay, az)));
+        /* a whole vector of one group (a tile's neighbours mostly are): its
+         * rows appended at once (the lane by lane group arithmetic below
+         * was about 35 instructions a ray, callgrind, sibenik shadows) */
+        if (lanes == PK_L && !zb && KP_UNIFORM(nx) && KP_UNIFORM(ny) && KP_UNIFORM(nz) &&
+            KP_UNIFORM(b0) && KP_UNIFORM(b1)) {
+            const uint32_t g = ((nx & 1u) | (ny & 1u) << 1 | (nz & 1u) << 2) * 3u + 2u -
+                               2u * (b0 & 1u) - (b1 & 1u);
+            uint16_t *to = idx[g] + cnt[g];
+            for (uint32_t l = 0; l < PK_L; l++) to[l] = (uint16_t)(o + l);
+            cnt[g] += PK_L;
+            continue;
+        }
         for (uint32_t l = 0; l < lanes; l++) {
             const uint32_t i = o + l;
             if (zb >> l & 1u) {
@@ -787,7 +817,22 @@ void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_packet_rays *
         else
             for (uint32_t v0 = 0; v0 < P.vecs; v0 += KP_K)
                 TT_VARIANT(KD_FN(kp_walk))(T, &P, v0, 0, stats);
-        for (uint32_t j = 0; j < c; j++) {
+        uint32_t j = 0;
+        if (any)
+            /* a vector of consecutive rows: its answer bits four at a time
+             * into bytes (bit q of a nibble lands alone on bit 8 q of the
+             * product) */
+            for (; j + PK_L <= c && idx[g][j + PK_L - 1] - idx[g][j] == PK_L - 1; j += PK_L) {
+                uint8_t *out = occ + idx[g][j];
+                for (uint32_t q = 0; q < PK_L; q += 4) {
+                    const uint32_t b = ((P.done[j / PK_L] >> q & 15u) * 0x00204081u) & 0x01010101u;
+                    out[q] = (uint8_t)b;
+                    out[q + 1] = (uint8_t)(b >> 8);
+                    out[q + 2] = (uint8_t)(b >> 16);
+                    out[q + 3] = (uint8_t)(b >> 24);
+                }
+            }
+        for (; j < c; j++) {
             const uint32_t i = idx[g][j];
             if (any) {
                 occ[i] = (uint8_t)(P.done[j / PK_L] >> (j % PK_L) & 1u);

@@ -21,6 +21,7 @@ typedef __m256i pk_vi;
     _mm256_blendv_ps(_mm256_permutevar8x32_ps(a, idx), _mm256_permutevar8x32_ps(b, idx),         \
                      _mm256_castsi256_ps(_mm256_slli_epi32(idx, 28)))
 #define PK_LOAD(p) _mm256_load_ps(p)
+#define PK_LOADU(p) _mm256_loadu_ps(p)
 #define PK_STORE(p, x) _mm256_store_ps(p, x)
 #define PK_LOADI(p) _mm256_load_si256((const __m256i *)(const void *)(p))
 #define PK_STOREI(p, x) _mm256_store_si256((__m256i *)(void *)(p), x)

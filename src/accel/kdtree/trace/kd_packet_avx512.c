@@ -18,6 +18,7 @@ typedef __m512i pk_vi;
 /* lanes a[idx] (idx < 16) or b[idx - 16] */
 #define PK_PERM2(idx, a, b) _mm512_permutex2var_ps(a, idx, b)
 #define PK_LOAD(p) _mm512_load_ps(p)
+#define PK_LOADU(p) _mm512_loadu_ps(p)
 #define PK_STORE(p, x) _mm512_store_ps(p, x)
 #define PK_LOADI(p) _mm512_load_si512((const void *)(p))
 #define PK_STOREI(p, x) _mm512_store_si512((void *)(p), x)
