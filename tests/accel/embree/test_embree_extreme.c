@@ -5,7 +5,8 @@
  * caller. Now every one must come back, and with the bruteforce answer:
  * - the crash rays found by tests/hard, on their scenes;
  * - random rays on a soup whose directions are scaled by powers of two from
- *   2^-140 to 2^120 (and by 1e20, 7e19, 1e-20): each must get the answer
+ *   2^-140 to 2^120 (and by 1e20, 7e19, 1e-20); those below the ray
+ *   contract's 2^-80 must be refused by both, the others must get the answer
  *   bruteforce gives on the same scaled ray whenever Embree agreed on the
  *   unscaled one (Embree's own edge test is not held to exactness; see
  *   src/accel/embree/embree.c), and in every case a valid answer (a miss, or
@@ -71,6 +72,27 @@ static void expect_bruteforce(tt_context *ctx, const tt_scene *s, const tt_accel
               h.prim, h.t, occ, want.prim, want.t, want_occ);
 }
 
+/* A direction whose largest component is below 2^-80 (the ray contract's
+ * TT_RAY_DIR_MIN): both structures refuse it, fast and counting calls. */
+static int too_short(const tt_ray *r)
+{
+    return fmaxf(fabsf(r->dir[0]), fmaxf(fabsf(r->dir[1]), fabsf(r->dir[2]))) < 0x1p-80f;
+}
+
+static void expect_refused(const tt_accel *e, const tt_accel *bf, const tt_ray *r, const char *what)
+{
+    tt_hit h;
+    int occ;
+    tt_ray_stats st;
+    memset(&st, 0, sizeof st);
+    tt_trace_args args = {TT_INVALID_ID, TT_INVALID_ID, &st};
+    CHECK_MSG(tt_intersect1(e, r, &h) == TT_ERR_INVALID_ARGUMENT &&
+                  tt_occluded1(e, r, &occ) == TT_ERR_INVALID_ARGUMENT &&
+                  tt_intersect1_ex(e, r, &h, &args) == TT_ERR_INVALID_ARGUMENT &&
+                  tt_intersect1(bf, r, &h) == TT_ERR_INVALID_ARGUMENT,
+              "%s: a direction below 2^-80 was traced", what);
+}
+
 static void test_crash_rays(tt_context *ctx)
 {
     /* from tests/hard/test_hard_cases.c: direction components of 7e19 */
@@ -120,9 +142,9 @@ static void test_scaled_directions(tt_context *ctx)
     tt_accel *e = tt_test_build_default(ctx, s, "embree"), *bf = tt_test_build_default(ctx, s, "bruteforce");
     static const int exps[] = {-140, -126, -100, -70, -64, -21, -20, 0, 20, 21, 60, 64, 66, 100, 120};
     static const float odd[] = {1e20f, 7.39e19f, 1e-20f, 1e37f};
-    /* Directions so tiny that the hits lie near FLT_MAX: the watertight test
-     * itself overflows there (its 1 / dir[kz] is ~3e38), so bruteforce
-     * misses what Embree finds, and only validity is asked for. */
+    /* Directions so tiny that the hits would lie near FLT_MAX: the watertight
+     * test itself overflows there (its 1 / dir[kz] is ~3e38), so the ray
+     * contract refuses them (below 2^-80), as it does 2^-140 .. 2^-100 above. */
     static const float beyond[] = {3e-39f, 1e-42f, 0x1p-149f};
     uint32_t x = 12345u;
     size_t compared = 0, hits = 0;
@@ -154,6 +176,10 @@ static void test_scaled_directions(tt_context *ctx)
             if (r.dir[0] == 0.0f && r.dir[1] == 0.0f && r.dir[2] == 0.0f) continue;
             if (!isfinite(r.dir[0] + r.dir[1] + r.dir[2])) continue;
             snprintf(what, sizeof what, "random ray %d, direction * %g", i, f);
+            if (too_short(&r)) {
+                expect_refused(e, bf, &r, what);
+                continue;
+            }
             if (generic) {
                 expect_bruteforce(ctx, s, e, bf, &r, what);
                 compared++;
@@ -175,9 +201,7 @@ static void test_scaled_directions(tt_context *ctx)
             for (int k = 0; k < 3; k++) r.dir[k] = base.dir[k] * beyond[j];
             if (r.dir[0] == 0.0f && r.dir[1] == 0.0f && r.dir[2] == 0.0f) continue;
             snprintf(what, sizeof what, "random ray %d, direction * %g", i, beyond[j]);
-            tt_hit h;
-            int occ;
-            trace_valid(ctx, s, e, &r, &h, &occ, what);
+            expect_refused(e, bf, &r, what);
         }
     }
     CHECK_MSG(compared > 1500, "only %zu scaled rays compared exactly", compared);
@@ -207,12 +231,16 @@ static void test_bruteforce_fallback(tt_context *ctx)
         expect_bruteforce(ctx, s, e, bf, &far, "origin at x = 2e18");
         tt_ray farthest = {{p[0], -3e38f, p[2]}, 0.0f, {0.0f, 1e38f, 0.0f}, INFINITY};
         expect_bruteforce(ctx, s, e, bf, &farthest, "origin at y = -3e38");
-        /* a tiny direction with a finite tmax that the rescaling would
-         * underflow, and one whose components span more than float's range */
-        tt_ray under = {{p[0], p[1], -1.0f}, 0.0f, {1e-41f, 2e-41f, 1e-40f}, 1e-30f};
-        expect_bruteforce(ctx, s, e, bf, &under, "tiny direction, tmax 1e-30");
-        under.tmax = 1e38f; /* reaches z = -0.99: not the soup */
-        expect_bruteforce(ctx, s, e, bf, &under, "tiny direction, tmax 1e38");
+        /* a direction just above the contract's 2^-80 with a finite tmax
+         * that the rescaling (by 2^-80) would underflow, and one whose
+         * components span more than float's range */
+        tt_ray under = {{p[0], p[1], -1.0f}, 0.0f, {1e-25f, 2e-25f, 1e-24f}, 1e-30f};
+        expect_bruteforce(ctx, s, e, bf, &under, "short direction, tmax 1e-30");
+        under.tmax = 1e22f; /* reaches z = -0.99: not the soup */
+        expect_bruteforce(ctx, s, e, bf, &under, "short direction, tmax 1e22");
+        /* below 2^-80 the contract refuses the ray */
+        tt_ray tiny = {{p[0], p[1], -1.0f}, 0.0f, {1e-41f, 2e-41f, 1e-40f}, 1e-30f};
+        expect_refused(e, bf, &tiny, "tiny direction, tmax 1e-30");
         tt_ray span = {{p[0], p[1], -1.0f}, 0.0f, {1e-44f * hard_sym(&x), 1e-44f, 1e30f}, INFINITY};
         expect_bruteforce(ctx, s, e, bf, &span, "direction components from 1e-44 to 1e30");
     }
