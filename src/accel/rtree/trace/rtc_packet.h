@@ -195,6 +195,22 @@ TT_RT_INLINE pk_cbox pk_child_box(const float *box, const uint32_t nr[3], const 
     return b;
 }
 
+/* The slab distances of child box cb for the rays of the group at offset o:
+ * the entry (the largest near plane, at least tmin) and the three far
+ * planes, which each walk closes with its own far bound. */
+TT_RT_INLINE pk_v pk_child_slabs(const pk_cbox *cb, const pk_rays *P, uint32_t o, pk_v far[3])
+{
+    const pk_v ox = PK_LOAD(P->ox + o), oy = PK_LOAD(P->oy + o), oz = PK_LOAD(P->oz + o);
+    const pk_v ix = PK_LOAD(P->rx + o), iy = PK_LOAD(P->ry + o), iz = PK_LOAD(P->rz + o);
+    const pk_v tnx = PK_MUL(PK_SUB(cb->n[0], ox), ix);
+    const pk_v tny = PK_MUL(PK_SUB(cb->n[1], oy), iy);
+    const pk_v tnz = PK_MUL(PK_SUB(cb->n[2], oz), iz);
+    far[0] = PK_MUL(PK_SUB(cb->f[0], ox), ix);
+    far[1] = PK_MUL(PK_SUB(cb->f[1], oy), iy);
+    far[2] = PK_MUL(PK_SUB(cb->f[2], oz), iz);
+    return PK_MAX(tnz, PK_MAX(tny, PK_MAX(tnx, PK_LOAD(P->tmin + o))));
+}
+
 #endif
 
 /* Block b's triangles against the rays of group g in lanes m (nonzero).
@@ -435,15 +451,9 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                 mk[g] = 0;
                 if (!m) continue;
                 const uint32_t o = g * PK_L;
-                const pk_v ox = PK_LOAD(P->ox + o), oy = PK_LOAD(P->oy + o), oz = PK_LOAD(P->oz + o);
-                const pk_v ix = PK_LOAD(P->rx + o), iy = PK_LOAD(P->ry + o), iz = PK_LOAD(P->rz + o);
-                const pk_v tnx = PK_MUL(PK_SUB(cb.n[0], ox), ix);
-                const pk_v tny = PK_MUL(PK_SUB(cb.n[1], oy), iy);
-                const pk_v tnz = PK_MUL(PK_SUB(cb.n[2], oz), iz);
-                const pk_v tfx = PK_MUL(PK_SUB(cb.f[0], ox), ix);
-                const pk_v tfy = PK_MUL(PK_SUB(cb.f[1], oy), iy);
-                const pk_v tfz = PK_MUL(PK_SUB(cb.f[2], oz), iz);
-                const pk_v tn = PK_MAX(tnz, PK_MAX(tny, PK_MAX(tnx, PK_LOAD(P->tmin + o))));
+                pk_v tf3[3];
+                const pk_v tn = pk_child_slabs(&cb, P, o, tf3);
+                const pk_v tfx = tf3[0], tfy = tf3[1], tfz = tf3[2];
                 if (lean) {
                     const pk_v tc = PK_MIN(tfz, PK_MIN(tfy, PK_MIN(tfx, PK_LOAD(P->tcut + o))));
                     const pk_v tfc = PK_ADD(tc, PK_MUL(PK_ABS(tc), PK_SET1(c1)));
@@ -636,20 +646,10 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
                     const uint32_t mg = m >> (g * PK_L) & PK_LANES;
                     if (!mg) continue;
                     const uint32_t o = g * PK_L;
-                    const pk_v ox = PK_LOAD(P->ox + o), oy = PK_LOAD(P->oy + o),
-                               oz = PK_LOAD(P->oz + o);
-                    const pk_v ix = PK_LOAD(P->rx + o), iy = PK_LOAD(P->ry + o),
-                               iz = PK_LOAD(P->rz + o);
-                    const pk_v tnx = PK_MUL(PK_SUB(cb.n[0], ox), ix);
-                    const pk_v tny = PK_MUL(PK_SUB(cb.n[1], oy), iy);
-                    const pk_v tnz = PK_MUL(PK_SUB(cb.n[2], oz), iz);
-                    const pk_v tfx = PK_MUL(PK_SUB(cb.f[0], ox), ix);
-                    const pk_v tfy = PK_MUL(PK_SUB(cb.f[1], oy), iy);
-                    const pk_v tfz = PK_MUL(PK_SUB(cb.f[2], oz), iz);
-                    const pk_v tn =
-                        PK_MAX(tnz, PK_MAX(tny, PK_MAX(tnx, PK_LOAD(P->tmin + o))));
+                    pk_v tf3[3];
+                    const pk_v tn = pk_child_slabs(&cb, P, o, tf3);
                     const pk_v tc =
-                        PK_MIN(tfz, PK_MIN(tfy, PK_MIN(tfx, PK_LOAD(P->tcut + o))));
+                        PK_MIN(tf3[2], PK_MIN(tf3[1], PK_MIN(tf3[0], PK_LOAD(P->tcut + o))));
                     const pk_v tfc = PK_ADD(tc, PK_MUL(PK_ABS(tc), c1));
                     h |= (PK_BITS(PK_CMP_LE(tn, tfc)) & mg) << o;
                 }
