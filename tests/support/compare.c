@@ -229,22 +229,25 @@ size_t tt_test_compare_random(const tt_scene *scene, const tt_accel *test, const
     return s.bad;
 }
 
-/* Both structures refuse ray r, the test's fast and counting calls too. */
-static void check_refused(cmp_state *s, const tt_accel *test, const tt_accel *ref,
-                          const tt_ray *r)
+int tt_test_refused(const tt_accel *test, const tt_accel *ref, const tt_ray *r)
 {
     tt_hit h;
     int o;
     tt_ray_stats st;
     memset(&st, 0, sizeof st);
     tt_trace_args a_stats = {TT_INVALID_ID, TT_INVALID_ID, &st};
-    const int refused = tt_intersect1(ref, r, &h) == TT_ERR_INVALID_ARGUMENT &&
-                        tt_occluded1(ref, r, &o) == TT_ERR_INVALID_ARGUMENT &&
-                        tt_intersect1(test, r, &h) == TT_ERR_INVALID_ARGUMENT &&
-                        tt_occluded1(test, r, &o) == TT_ERR_INVALID_ARGUMENT &&
-                        tt_intersect1_ex(test, r, &h, &a_stats) == TT_ERR_INVALID_ARGUMENT &&
-                        tt_occluded1_ex(test, r, &o, &a_stats) == TT_ERR_INVALID_ARGUMENT;
-    if (!refused) report(s, "refused", r, "a direction below 2^-80 was traced");
+    return tt_intersect1(ref, r, &h) == TT_ERR_INVALID_ARGUMENT &&
+           tt_occluded1(ref, r, &o) == TT_ERR_INVALID_ARGUMENT &&
+           tt_intersect1(test, r, &h) == TT_ERR_INVALID_ARGUMENT &&
+           tt_occluded1(test, r, &o) == TT_ERR_INVALID_ARGUMENT &&
+           tt_intersect1_ex(test, r, &h, &a_stats) == TT_ERR_INVALID_ARGUMENT &&
+           tt_occluded1_ex(test, r, &o, &a_stats) == TT_ERR_INVALID_ARGUMENT;
+}
+
+static void check_refused(cmp_state *s, const tt_accel *test, const tt_accel *ref,
+                          const tt_ray *r)
+{
+    if (!tt_test_refused(test, ref, r)) report(s, "refused", r, "a direction below 2^-80 was traced");
 }
 
 size_t tt_test_compare_tiny_dirs(const tt_scene *scene, const tt_accel *test, const tt_accel *ref,

@@ -68,6 +68,11 @@ size_t tt_test_compare_random(const tt_scene *scene, const tt_accel *test, const
 size_t tt_test_compare_tiny_dirs(const tt_scene *scene, const tt_accel *test, const tt_accel *ref,
                                  uint32_t n, uint32_t seed);
 
+/* 1 when both structures refuse ray r with TT_ERR_INVALID_ARGUMENT (the ray
+ * contract's too-short direction), through intersect and occluded, and the
+ * test structure through its counting calls too; 0 when any call traced it. */
+int tt_test_refused(const tt_accel *test, const tt_accel *ref, const tt_ray *r);
+
 /* Rays given by the caller, closest hit and occlusion. */
 size_t tt_test_compare_rays(const tt_accel *test, const tt_accel *ref, const tt_ray *rays,
                             size_t n);
