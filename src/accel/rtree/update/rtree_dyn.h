@@ -25,6 +25,7 @@
 
 typedef struct rt_dyn {
     rt_builder b;
+    tt_rtree_options opt; /* the tree's options (the local rebuilds' loader) */
     float *tri_box;      /* 6 floats an id: the box the tree holds it with  */
     uint32_t *leaf_of;   /* b.leaf_of: the leaf of an id, TT_INVALID_ID: absent */
     size_t id_cap;       /* ids the three per-id arrays hold                 */
@@ -113,6 +114,13 @@ tt_status rt_dyn_reserve_ids(rt_dyn *d, size_t ids);
 tt_status rt_dyn_node_arrays(rt_dyn *d);
 /* Removes triangle id (present in the tree): condense, orphans reinserted. */
 tt_status rt_dyn_delete(rt_dyn *d, uint32_t id);
+/* Node n (out of the tree, no entries left in use) back on the free list;
+ * its places in the layout wait for the next sync. */
+void rt_dyn_free_node(rt_dyn *d, uint32_t n);
+/* An edit's local rebuild (rtree_dyn_rebuild.c): the level-2 subtree
+ * whose level-1 boxes spread most over its own box rebuilt below its
+ * level-2 node by the SAH loader. */
+tt_status rt_dyn_rebuild_worst(rt_dyn *d);
 /* Inserts triangle id with box tri_box[id]. */
 tt_status rt_dyn_insert(rt_dyn *d, uint32_t id);
 /* Sets id's entry box in its leaf to tri_box[id], marking the leaf dirty. */

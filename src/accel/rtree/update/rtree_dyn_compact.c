@@ -64,6 +64,7 @@ tt_status rt_dyn_from_compact(rt_dyn *d, tt_context *ctx, const tt_rtree_options
                               const rtc_tree *t, const tt_scene *scene)
 {
     memset(d, 0, sizeof *d);
+    d->opt = *o;
     const tt_rtc *c = &t->c;
     /* Insertions follow the tree's strategy when it was built by insertion;
      * a bulk-loaded tree (no strategy of its own) takes the least surface

@@ -72,7 +72,7 @@ static tt_status mark(rt_dyn *d, uint32_t n)
     return TT_OK;
 }
 
-static void free_node(rt_dyn *d, uint32_t n)
+void rt_dyn_free_node(rt_dyn *d, uint32_t n)
 {
     rt_dyn_release(d, n);
     d->b.hdr[n].pad = NODE_FREE;
@@ -130,7 +130,7 @@ static tt_status orphan_triangles(rt_dyn *d, uint32_t n)
             st = orphan_triangles(d, ch[i]);
         }
     }
-    free_node(d, n);
+    rt_dyn_free_node(d, n);
     return st;
 }
 
@@ -172,7 +172,7 @@ tt_status rt_dyn_delete(rt_dyn *d, uint32_t id)
                 st = add_orphan(d, e, nc[k], level);
             }
             remove_entry(b, p, b->hdr[n].slot);
-            free_node(d, n);
+            rt_dyn_free_node(d, n);
         } else {
             /* n keeps its place; its box shrinks in p. When it does not
              * change, nothing above does (counts change only through an
@@ -203,7 +203,7 @@ tt_status rt_dyn_delete(rt_dyn *d, uint32_t id)
             d->orphan_level[w++] = 0;
         }
         d->orphan_count = w;
-        free_node(d, b->root);
+        rt_dyn_free_node(d, b->root);
         uint32_t r;
         if (st == TT_OK) st = rt_builder_new_node(b, 0, &r);
         if (st != TT_OK) return st;
@@ -220,7 +220,7 @@ tt_status rt_dyn_delete(rt_dyn *d, uint32_t id)
         b->root = rt_node_child(b, old)[0];
         b->hdr[b->root].parent = TT_INVALID_ID;
         b->hdr[b->root].slot = 0;
-        free_node(d, old);
+        rt_dyn_free_node(d, old);
     }
     return rt_dyn_node_arrays(d);
 }
