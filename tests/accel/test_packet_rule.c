@@ -41,15 +41,18 @@ static void camera_tile(tt_packet_rays *p)
     p->n = 256;
 }
 
-/* Shadow rays from points spread over a floor to one point light: the
- * directions fan out (past the direction box), the ends meet. */
-static void light_rays(tt_packet_rays *p, uint32_t n, int open)
+/* Shadow rays from points spread over a floor to one light: the
+ * directions fan out (past the direction box), the ends meet; a light of
+ * size `size` (soft shadows) spreads them a little. */
+static void light_rays(tt_packet_rays *p, uint32_t n, int open, float size)
 {
     const float light[3] = {0.0f, 2.0f, 0.0f};
+    uint32_t seed = 4242u;
     for (uint32_t j = 0; j < n; j++) {
         const float org[3] = {-8.0f + 16.0f * (float)(j % 16) / 15.0f, 0.0f,
                               -8.0f + 16.0f * (float)(j / 16) / 15.0f};
-        float d[3] = {light[0] - org[0], light[1] - org[1], light[2] - org[2]};
+        float d[3];
+        for (int k = 0; k < 3; k++) d[k] = light[k] + size * (unit(&seed) - 0.5f) - org[k];
         const float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
         for (int k = 0; k < 3; k++) d[k] /= len;
         set_row(p, j, org, d, open ? INFINITY : len * (1.0f - 1e-4f));
@@ -77,12 +80,18 @@ static void rule_on_rows(void)
         CHECK_MSG(!tt_packet_coherent(&p), "outlier in row %u", j);
     }
 
-    light_rays(&p, 256, 0);
+    light_rays(&p, 256, 0, 0.0f);
     CHECK_MSG(tt_packet_coherent(&p), "shadow rays to a point light are coherent");
-    light_rays(&p, 100, 0);
+    light_rays(&p, 100, 0, 0.0f);
     CHECK_MSG(tt_packet_coherent(&p), "(an item of 100 rows)");
-    light_rays(&p, 256, 1);
+    light_rays(&p, 256, 1, 0.0f);
     CHECK_MSG(!tt_packet_coherent(&p), "the same directions without an end are not");
+    /* the shortest ray is 2 long: a light 0.5 wide keeps the ends within
+     * TT_PACKET_SPREAD of it (soft shadows), one 4 wide does not */
+    light_rays(&p, 256, 0, 0.5f);
+    CHECK_MSG(tt_packet_coherent(&p), "shadow rays to a small sphere light are coherent");
+    light_rays(&p, 256, 0, 4.0f);
+    CHECK_MSG(!tt_packet_coherent(&p), "rays to ends spread twice their shortest length are not");
 
     /* random directions over the sphere */
     uint32_t seed = 12345u;
