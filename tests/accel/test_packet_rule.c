@@ -80,6 +80,15 @@ static void rule_on_rows(void)
         CHECK_MSG(!tt_packet_coherent(&p), "outlier in row %u", j);
     }
 
+    /* rows past n are not read: outliers there change nothing */
+    for (uint32_t n = TT_PACKET_MIN; n < 256; n++) {
+        camera_tile(&p);
+        const float far[3] = {1e6f, -1e6f, 1e6f};
+        for (uint32_t j = n; j < 256; j++) set_row(&p, j, far, back, 1.0f);
+        p.n = n;
+        CHECK_MSG(tt_packet_coherent(&p), "%u rows, outliers past them", n);
+    }
+
     light_rays(&p, 256, 0, 0.0f);
     CHECK_MSG(tt_packet_coherent(&p), "shadow rays to a point light are coherent");
     light_rays(&p, 100, 0, 0.0f);
