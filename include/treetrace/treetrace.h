@@ -429,8 +429,11 @@ typedef struct tt_batch_options {
      * not depend on it. */
     uint32_t image_width;
     /* Packet traversal (a structure whose vtable offers it): TT_PACKETS_AUTO
-     * (0, default) traces coherent batches in packets (image_width given, a
-     * shared origin, or coherent directions) and the others ray by ray;
+     * (0, default) traces each work item (a 16 x 16 tile with image_width,
+     * else a run of up to 256 rays) as a packet when its rays are coherent
+     * (directions within a cone of about 30 degrees, or ends together
+     * within half the shortest ray's length, as shadow rays to a light) and
+     * ray by ray otherwise;
      * TT_PACKETS_OFF always ray by ray; TT_PACKETS_ON packets whenever the
      * structure has them. Results do not depend on it. */
     uint32_t packets;
@@ -613,8 +616,8 @@ typedef struct tt_render_options {
     int keep_pixel_stats;   /* keep per-pixel counts for heatmaps             */
     tt_device device;       /* default TT_DEVICE_CPU                          */
     /* TT_PACKETS_AUTO (default): a structure with packet traversal traces
-     * each tile's primary rays, and its shadow rays when their directions
-     * are coherent, as one packet; TT_PACKETS_OFF ray by ray; TT_PACKETS_ON
+     * each tile's primary rays, and its shadow rays when they are coherent
+     * (within a cone, or ending together at the light), as one packet; TT_PACKETS_OFF ray by ray; TT_PACKETS_ON
      * packets always. The image and hit buffer do not depend on it. */
     uint32_t packets;
 } tt_render_options;

@@ -285,6 +285,10 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
      * (the rows entry answers as the single-ray one does either way) */
     const int use_rows =
         !counting && (hits ? vt->intersect_rows != NULL : vt->occluded_rows != NULL);
+    /* TT_PACKETS_AUTO: an item's rows are gathered first (every item's
+     * are, for one path or the other) and judged after the check
+     * (tt_packet_coherent, packets.h) */
+    const int judge = use_packets && o->packets == TT_PACKETS_AUTO;
     const tt_ray *const aos = aos_rays_of(rays);
     tt_hit *const hits_aos = aos_hits_of(hits);
     tt_status entered = tt_accel_trace_enter(accel, call);
@@ -307,41 +311,6 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
         for (long c = 0; c < p.items; c++) {
             int packet = use_packets;
             int rows = use_rows;
-            if (packet && o->packets == TT_PACKETS_AUTO) {
-                /* decide from the directions alone, before preparing any
-                 * ray: an incoherent item then takes the plain loop below
-                 * with nothing staged (its rows would take 8 KB of the
-                 * cache the traversal wants) */
-                tt_dir_box db;
-                tt_end_box eb;
-                tt_dir_box_init(&db);
-                tt_end_box_init(&eb);
-                size_t seen = 0;
-                int hopeless = 0; /* neither test can pass: stop sampling */
-                /* about 32 rays of the item suffice to judge it, and keep
-                 * the test's cost to incoherent batches small: every
-                 * step-th ray in the item's order, reached row by row
-                 * (a loop over every ray skipping the others was about 9
-                 * instructions a ray, callgrind, shadow rays) */
-                size_t first, len, nrows, pitch;
-                plan_item(&p, c, &first, &len, &nrows, &pitch);
-                const size_t step = (len * nrows + 31u) / 32u;
-                size_t next = 0; /* the next sample's place in the item */
-                for (size_t r = 0; r < nrows && !hopeless && first + r * pitch < p.n; r++) {
-                    const size_t s = first + r * pitch, e = s + len < p.n ? s + len : p.n;
-                    for (; !hopeless && next - seen < e - s; next += step) {
-                        const size_t i = s + (next - seen);
-                        float org[3], dir[3], tmin, tmax;
-                        load_ray(rays, i, org, dir, &tmin, &tmax);
-                        tt_dir_box_add(&db, dir);
-                        tt_end_box_add(&eb, org, dir, tmax);
-                        hopeless = tt_packet_boxes_hopeless(&db, &eb);
-                    }
-                    seen += e - s;
-                }
-                /* (seen: the item's rays, unless a sample gave up) */
-                packet = !hopeless && seen >= TT_PACKET_MIN && tt_packet_boxes_coherent(&db, &eb);
-            }
             if (packet || rows) {
                 /* the item's rays straight into rows; the kernel derives
                  * reciprocals, shear and octants itself */
@@ -388,6 +357,7 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                     }
                     pr->n = np = keep;
                 }
+                if (judge) packet = tt_packet_coherent(pr);
                 if (packet && (np >= TT_PACKET_MIN || o->packets == TT_PACKETS_ON)) {
                     if (hits && counting) vt->intersect_packet_stats(accel, pr, ph, &plocal);
                     else if (hits) vt->intersect_packet(accel, pr, ph);

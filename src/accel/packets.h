@@ -20,9 +20,10 @@
 /* Coherent: the rays' normalised directions fit in a box no wider than 0.5
  * on every axis (about a 30 degree cone): a camera tile, or the shadow rays
  * of a tile towards a distant light (a near one: tt_end_box). Ambient-
- * occlusion and diffuse rays are not, and go ray by ray, so an incoherent
- * batch pays only this pass over its directions. The box is grown one direction at a time (a NaN direction,
- * from a ray the contract refuses, leaves it as it was). */
+ * occlusion and diffuse rays are not, and go ray by ray. The box is grown
+ * one direction at a time (a NaN direction, from a ray the contract
+ * refuses, leaves it as it was); tt_packet_coherent grows the same boxes
+ * four rows at a time. */
 typedef struct tt_dir_box {
     float lo[3], hi[3];
     uint32_t n;
@@ -50,12 +51,23 @@ static inline int tt_dir_box_coherent(const tt_dir_box *b)
            b->hi[1] - b->lo[1] <= TT_PACKET_SPREAD && b->hi[2] - b->lo[2] <= TT_PACKET_SPREAD;
 }
 
-/* Shadow rays to one point light share their far end, not their direction
- * (a tile's hits see the light at angles far apart): rays whose ends
- * org + tmax dir bunch together, within a hundredth of the shortest ray's
- * length, form a frustum with its apex at that end, which a packet's
- * interval test culls as well as a cone. Any ray of infinite or NaN tmax,
- * or a zero length, makes the test fail. */
+/* Shadow rays to one light share their far end, not their direction (a
+ * tile's hits see the light at angles far apart): rays whose ends
+ * org + tmax dir bunch together form a frustum narrowing to that end, which
+ * a packet's interval test culls as well as a cone. Together means within
+ * TT_PACKET_SPREAD of the shortest ray's length on every axis: seen from
+ * any origin, the end region then spans no more than the direction box
+ * admits (a point light's rays end within float rounding of it; a light of
+ * some size, soft shadows, keeps its rays together too). Random directions
+ * (ambient occlusion, diffuse bounces) end at least twice their shortest
+ * length apart and fail it. Any ray of infinite or NaN tmax, or a zero
+ * length, makes the test fail.
+ * The bound was a hundredth until 2026-12-03: shadow rays to a sphere light
+ * (ends jittered over a radius of 0.2-3% of the scene's diagonal, items'
+ * end width 0.01-0.9 of their shortest ray) went ray by ray under auto, while
+ * packets traced them 1.3-1.9x faster than single rays (sibenik, conference,
+ * Cornell, bunny; R-tree and kd-tree); at widths of 1-8 packets still gained
+ * 1.1-1.4x on most, and lost from about 10 on (/work/notes/pkauto.md). */
 typedef struct tt_end_box {
     float lo[3], hi[3];
     float shortest;
@@ -86,7 +98,7 @@ static inline int tt_end_box_converge(const tt_end_box *b)
 {
     if (b->open || !(b->shortest > 0.0f) || !(b->shortest < INFINITY)) return 0;
     for (int k = 0; k < 3; k++)
-        if (!(b->hi[k] - b->lo[k] <= 0.01f * b->shortest)) return 0;
+        if (!(b->hi[k] - b->lo[k] <= TT_PACKET_SPREAD * b->shortest)) return 0;
     return 1;
 }
 
@@ -97,34 +109,24 @@ static inline int tt_packet_boxes_coherent(const tt_dir_box *d, const tt_end_box
     return tt_dir_box_coherent(d) || tt_end_box_converge(e);
 }
 
-/* Neither test can pass any more, whatever rays are added: both boxes only
- * grow (and the shortest length only shrinks), so a sampler may stop at the
- * first rays that spread (an incoherent batch then pays two or three
- * samples an item, not all of them). */
-static inline int tt_packet_boxes_hopeless(const tt_dir_box *d, const tt_end_box *e)
-{
-    int dir_ok = 1, end_ok = !e->open;
-    for (int k = 0; k < 3; k++) {
-        dir_ok &= d->hi[k] - d->lo[k] <= TT_PACKET_SPREAD;
-        end_ok &= e->hi[k] - e->lo[k] <= 0.01f * e->shortest;
-    }
-    return !dir_ok && !end_ok;
-}
-
-static inline int tt_packet_coherent(const tt_packet_rays *p)
-{
-    if (p->n < TT_PACKET_MIN) return 0;
-    tt_dir_box b;
-    tt_end_box e;
-    tt_dir_box_init(&b);
-    tt_end_box_init(&e);
-    for (uint32_t i = 0; i < p->n; i++) {
-        const float org[3] = {p->org[0][i], p->org[1][i], p->org[2][i]};
-        const float dir[3] = {p->dir[0][i], p->dir[1][i], p->dir[2][i]};
-        tt_dir_box_add(&b, dir);
-        tt_end_box_add(&e, org, dir, p->tmax[i]);
-    }
-    return tt_packet_boxes_coherent(&b, &e);
-}
+/* The rule for a packet's rows (the batch calls' items, after the ray
+ * check; the renderer's tiles), judged from a sample: TT_PACKET_RUNS runs of
+ * TT_PACKET_RUN consecutive rows, the first and the last run at the two
+ * ends of the rows and the others evenly between (a tile's corners, a
+ * run's two ends: where the boxes' extremes lie for camera and shadow
+ * rays). Rows of fewer than TT_PACKET_MIN rays are not a packet.
+ *
+ * Why a sample of the rows, computed eight lanes at once (packets.c): the
+ * rule had been a walk over every 8th ray of the item before its rows were
+ * gathered, each sample a square root and a division in a chain, about 17
+ * instructions a ray of a 256-ray item (callgrind, Cornell shadow rays: 195
+ * auto vs 178 on) and 10-25% of a shadow batch's time, while every item
+ * of every shared and unseen view's point-light shadow batch passed it.
+ * The rows are gathered for either path anyway (packets, or the rows entry
+ * of single rays); an incoherent item (ambient occlusion) pays the 32
+ * sampled rows, about 3 instructions a ray of the item. */
+#define TT_PACKET_RUN 8u
+#define TT_PACKET_RUNS 4u
+int tt_packet_coherent(const tt_packet_rays *p);
 
 #endif

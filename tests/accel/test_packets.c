@@ -203,7 +203,7 @@ static tt_ray *view_rays(const tt_accel *ref, const tt_scene *scene, const tt_ca
     for (size_t i = 0; i < n; i++) {
         tt_hit h;
         tt_intersect1(ref, &rays[i], &h);
-        if (h.prim != TT_INVALID_ID && tt_shadow_ray(scene, cam, &rays[i], &h, &sh[k]) == TT_OK)
+        if (h.prim != TT_INVALID_ID && tt_shadow_ray(scene, cam, &rays[i], &h, &sh[k]))
             k++;
     }
     *n_shadow = k;
@@ -390,6 +390,9 @@ static void scene_view(tt_context *ctx, const char *file, const char *view, int 
     tt_ray *hostile = hostile_rays(scene, &cam, 0, &n_hostile);
     tt_ray *denormal = hostile_rays(scene, &cam, 1, &n_hostile);
     tt_ray *edges = shadow_edge_rays(bf, shadow, n_shadow);
+    /* (tt_shadow_ray returns 1 for a ray made: the view has a light, and
+     * its shadow rays are checked, not an empty set) */
+    CHECK_MSG(n_shadow > (size_t)SIZE * SIZE / 8, "%s: %zu shadow rays", view, n_shadow);
     static const char *names[] = {"rtree", "kdtree", "wbvh", "bruteforce"};
     for (size_t s = 0; s < sizeof names / sizeof names[0]; s++) {
         if (!tt_test_has_accel(names[s])) continue;
