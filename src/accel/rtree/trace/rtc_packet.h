@@ -94,6 +94,12 @@ typedef struct pk_rays {
     _Alignas(64) float tmin[PK_N];
     _Alignas(64) float t[PK_N];
     _Alignas(64) float tcut[PK_N]; /* occlusion: t widened by 2^-15, see rtc_pk_walk */
+    /* occlusion with tmin >= 0 (rtc_pk_widen): rx, ry, rz and tcut
+     * widened by 2^-20, so the far bound needs no margin of its own */
+    _Alignas(64) float fx[PK_N];
+    _Alignas(64) float fy[PK_N];
+    _Alignas(64) float fz[PK_N];
+    _Alignas(64) float tcf[PK_N];
     _Alignas(64) float u[PK_N];
     _Alignas(64) float v[PK_N];
     _Alignas(64) float sx[PK_N];
@@ -209,6 +215,43 @@ TT_RT_INLINE pk_v pk_child_slabs(const pk_cbox *cb, const pk_rays *P, uint32_t o
     far[1] = PK_MUL(PK_SUB(cb->f[1], oy), iy);
     far[2] = PK_MUL(PK_SUB(cb->f[2], oz), iz);
     return PK_MAX(tnz, PK_MAX(tny, PK_MAX(tnx, PK_LOAD(P->tmin + o))));
+}
+
+/* The occlusion walk's overlap test of child box cb for the group at
+ * offset o, with rtc_pk_widen's rows: the lanes where the entry is at most
+ * the far bound. The lean test closes the far bound tc = min(far planes,
+ * tcut) with tc + |tc| 2^-22; here the far planes use reciprocals and tcut
+ * widened by 2^-20 instead, which for tc >= 0 is never below that (a
+ * product with a factor at least 1 + 2^-20 - 2^-24 against at most
+ * 1 + 2^-22 + 2^-23 in all), and for tc < 0 both miss, the entry being at
+ * least tmin >= 0. Three vector operations fewer a test. */
+TT_RT_INLINE uint32_t pk_child_occ_wide(const pk_cbox *cb, const pk_rays *P, uint32_t o)
+{
+    const pk_v ox = PK_LOAD(P->ox + o), oy = PK_LOAD(P->oy + o), oz = PK_LOAD(P->oz + o);
+    const pk_v tnx = PK_MUL(PK_SUB(cb->n[0], ox), PK_LOAD(P->rx + o));
+    const pk_v tny = PK_MUL(PK_SUB(cb->n[1], oy), PK_LOAD(P->ry + o));
+    const pk_v tnz = PK_MUL(PK_SUB(cb->n[2], oz), PK_LOAD(P->rz + o));
+    const pk_v tfx = PK_MUL(PK_SUB(cb->f[0], ox), PK_LOAD(P->fx + o));
+    const pk_v tfy = PK_MUL(PK_SUB(cb->f[1], oy), PK_LOAD(P->fy + o));
+    const pk_v tfz = PK_MUL(PK_SUB(cb->f[2], oz), PK_LOAD(P->fz + o));
+    const pk_v tn = PK_MAX(tnz, PK_MAX(tny, PK_MAX(tnx, PK_LOAD(P->tmin + o))));
+    const pk_v tc = PK_MIN(tfz, PK_MIN(tfy, PK_MIN(tfx, PK_LOAD(P->tcf + o))));
+    return PK_BITS(PK_CMP_LE(tn, tc));
+}
+
+/* rtc_pk_load's reciprocals and tcut times 1 + 2^-20 into fx, fy, fz, tcf
+ * (rounded: at least r (1 + 2^-20 - 2^-24) in magnitude, and never below
+ * r, both being normal or the product rounding up from r) for
+ * pk_child_occ_wide. */
+TT_RT_INLINE void pk_widen(pk_rays *P)
+{
+    const pk_v w = PK_SET1(1.0f + 1.0f / 1048576.0f);
+    for (uint32_t o = 0; o < P->groups * PK_L; o += PK_L) {
+        PK_STORE(P->fx + o, PK_MUL(PK_LOAD(P->rx + o), w));
+        PK_STORE(P->fy + o, PK_MUL(PK_LOAD(P->ry + o), w));
+        PK_STORE(P->fz + o, PK_MUL(PK_LOAD(P->rz + o), w));
+        PK_STORE(P->tcf + o, PK_MUL(PK_LOAD(P->tcut + o), w));
+    }
 }
 
 #endif
@@ -601,8 +644,8 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
  * entered with the same rays. Needs finite reciprocals and S a multiple of
  * PK_L (the interval test); rtc_pk_trace checks. */
 TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT t,
-                                                      const uint32_t S, pk_rays *P,
-                                                      tt_packet_stats *stats)
+                                                      const uint32_t S, const int wide,
+                                                      pk_rays *P, tt_packet_stats *stats)
 {
     pk_oentry stack[PK_STACK];
     uint32_t sp = 0;
@@ -646,6 +689,11 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
                     const uint32_t mg = m >> (g * PK_L) & PK_LANES;
                     if (!mg) continue;
                     const uint32_t o = g * PK_L;
+                    if (wide) {
+                        /* inactive lanes go with h &= m below */
+                        h |= pk_child_occ_wide(&cb, P, o) << o;
+                        continue;
+                    }
                     pk_v tf3[3];
                     const pk_v tn = pk_child_slabs(&cb, P, o, tf3);
                     const pk_v tc =
@@ -653,6 +701,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
                     const pk_v tfc = PK_ADD(tc, PK_MUL(PK_ABS(tc), c1));
                     h |= (PK_BITS(PK_CMP_LE(tn, tfc)) & mg) << o;
                 }
+                h &= m;
                 if (!h) continue;
                 const float te = tpk[c];
                 uint32_t j = nh++;
@@ -875,10 +924,15 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_trace))(const tt_rtc *t, const tt_pac
     TT_COUNT(stats, packets, 1);
     TT_VARIANT(RTC_FN(rtc_pk_load))(P, rays, ix, c);
     if (any && P->ia && t->S % PK_L == 0 && c <= 32u) {
+        /* shadow rays (tmin >= 0): the test with widened rows */
+        const int wide = P->tmin_min >= 0.0f;
+        if (wide) pk_widen(P);
         switch (t->S) {
-        case 16: TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(t, 16, P, stats); break;
-        case 8: TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(t, 8, P, stats); break;
-        default: TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(t, t->S, P, stats); break;
+        case 16:
+            if (wide) TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(t, 16, 1, P, stats);
+            else TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(t, 16, 0, P, stats);
+            break;
+        default: TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(t, t->S, wide, P, stats); break;
         }
     } else switch (t->S) {
     case 16:
