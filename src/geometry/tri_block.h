@@ -27,6 +27,7 @@
 #define TT_GEOMETRY_TRI_BLOCK_H
 
 #include <stdint.h>
+#include <string.h>
 
 #include "geometry/hd.h"
 #include "geometry/ray.h"
@@ -77,7 +78,27 @@ static inline int tt_tri_is_degenerate(const float *a, const float *b, const flo
  * there is a hit) and then keeps the candidates tt_tri_better accepts. */
 TT_HD float tt_tri_tie_limit(const tt_hit *hit)
 {
-    return hit->prim == TT_INVALID_ID ? hit->t : nextafterf(hit->t, INFINITY);
+    if (hit->prim == TT_INVALID_ID) return hit->t;
+#ifdef __CUDA_ARCH__
+    return nextafterf(hit->t, INFINITY);
+#else
+    /* nextafterf(t, +inf) for a hit's t (finite, >= tmin >= 0) by its bits:
+     * glibc's is a call through the PLT, and the AVX2 walk spilled six
+     * vector registers around it at every block test after a first hit
+     * (callgrind, conference: 1% of the kernel's instructions). The same
+     * float for every t the call would get: NaN and +inf stay, +-0 give
+     * the least denormal, a positive t the next bit pattern up, a negative
+     * one the next down. */
+    const float t = hit->t;
+    if (!(t < TT_INF)) return t;
+    if (t == 0.0f) return __FLT_DENORM_MIN__;
+    uint32_t u;
+    memcpy(&u, &t, sizeof u);
+    u = t > 0.0f ? u + 1u : u - 1u;
+    float n;
+    memcpy(&n, &u, sizeof n);
+    return n;
+#endif
 }
 TT_HD int tt_tri_better(float t, uint32_t prim, const tt_hit *hit)
 {

@@ -65,13 +65,37 @@ typedef struct rtc_lanes {
 
 #if defined(__FMA__)
 #define RTC_FAR (1.0f + 1.0f / 2097152.0f)
-/* Whether axis k of the ray culls in the fused test: its scaled rcp and
- * offsets are finite (an rcp of +-inf, a zero direction component, keeps
- * the former handling: exact +-inf or NaN, see above). */
-static inline int rtc_axis_fused(const tt_wray *r, int k)
+/* The FMA units' per-ray constants, the three axes at once in one SSE
+ * register each (lane k: axis k; lane 3 is never used): the same float
+ * operations per axis as the scalar form they replace (tt_wray's org and
+ * rcp read four floats at a time, the fourth being dir[0] / tmin), so the
+ * same constants. The scalar form's per-axis branches and broadcasts were
+ * ~100 instructions a ray (callgrind, conference: 8% of the walk's).
+ * Returns the mask of the axes that cull in the fused test (bit k): those
+ * whose scaled rcp and offsets are finite, |rcp| RTC_FAR < inf and
+ * |org rcp| (1 + 2^-19) < inf (an rcp of +-inf, a zero direction
+ * component, keeps the former handling: exact +-inf or NaN, see above). */
+static inline int rtc_axes_fused(const tt_wray *r, __m128 *rn, __m128 *rf, __m128 *cn, __m128 *cf)
 {
-    return fabsf(r->rcp[k]) * RTC_FAR < TT_INF &&
-           fabsf(r->org[k] * r->rcp[k]) * (1.0f + 1.0f / 524288.0f) < TT_INF;
+    const __m128 abs = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    const __m128 inf = _mm_set1_ps(TT_INF);
+    const __m128 near = _mm_set1_ps(1.0f - 1.0f / 65536.0f), far = _mm_set1_ps(RTC_FAR);
+    const __m128 rcp = _mm_loadu_ps(r->rcp), x = _mm_mul_ps(_mm_loadu_ps(r->org), rcp);
+    const __m128 arcp = _mm_and_ps(rcp, abs), ax = _mm_and_ps(x, abs);
+    const __m128 fused =
+        _mm_and_ps(_mm_cmplt_ps(_mm_mul_ps(arcp, far), inf),
+                   _mm_cmplt_ps(_mm_mul_ps(ax, _mm_set1_ps(1.0f + 1.0f / 524288.0f)), inf));
+    const __m128 pad = _mm_mul_ps(ax, _mm_set1_ps(1.0f / 2097152.0f));
+    const __m128 neg = _mm_set1_ps(-0.0f);
+    /* a finite rcp or offset whose scaled form would overflow: NaN, so the
+     * accumulation ignores the axis (no culling) */
+    const __m128 drop = _mm_andnot_ps(fused, _mm_cmplt_ps(arcp, inf));
+    const __m128 nan = _mm_set1_ps(NAN);
+    *rn = _mm_blendv_ps(_mm_mul_ps(rcp, near), nan, drop);
+    *rf = _mm_blendv_ps(_mm_mul_ps(rcp, far), nan, drop);
+    *cn = _mm_blendv_ps(_mm_sub_ps(_mm_xor_ps(_mm_mul_ps(x, near), neg), pad), nan, drop);
+    *cf = _mm_blendv_ps(_mm_add_ps(_mm_xor_ps(_mm_mul_ps(x, far), neg), pad), nan, drop);
+    return _mm_movemask_ps(fused) & 7;
 }
 #endif
 
@@ -79,8 +103,10 @@ static inline void rtc_lanes_init(rtc_lanes *s, const tt_wray *r)
 {
 #if defined(__AVX512F__)
 #define RTC_SET1 _mm512_set1_ps
+#define RTC_LANE(v, k) _mm512_broadcastss_ps(_mm_permute_ps((v), (k) * 0x55))
 #elif defined(__AVX2__)
 #define RTC_SET1 _mm256_set1_ps
+#define RTC_LANE(v, k) _mm256_broadcastss_ps(_mm_permute_ps((v), (k) * 0x55))
 #else
 #define RTC_SET1 _mm_set1_ps
 #endif
@@ -92,27 +118,19 @@ static inline void rtc_lanes_init(rtc_lanes *s, const tt_wray *r)
     s->iz = RTC_SET1(r->rcp[2]);
     s->tmin = RTC_SET1(r->tmin);
 #if defined(__FMA__)
-    const float near = 1.0f - 1.0f / 65536.0f;
-    for (int k = 0; k < 3; k++) {
-        const float x = r->org[k] * r->rcp[k];
-        const float pad = fabsf(x) * (1.0f / 2097152.0f);
-        if (fabsf(r->rcp[k]) < TT_INF && !rtc_axis_fused(r, k)) {
-            /* a finite rcp or offset whose scaled form would overflow:
-             * NaN, so the accumulation ignores the axis (no culling) */
-            s->rn[k] = s->rf[k] = s->cn[k] = s->cf[k] = RTC_SET1(NAN);
-            continue;
-        }
-        s->rn[k] = RTC_SET1(r->rcp[k] * near);
-        s->rf[k] = RTC_SET1(r->rcp[k] * RTC_FAR);
-        s->cn[k] = RTC_SET1(-(x * near) - pad);
-        s->cf[k] = RTC_SET1(-(x * RTC_FAR) + pad);
-    }
-    s->tmin_n = RTC_SET1(r->tmin * near);
+    __m128 rn, rf, cn, cf;
+    (void)rtc_axes_fused(r, &rn, &rf, &cn, &cf);
+    s->rn[0] = RTC_LANE(rn, 0), s->rn[1] = RTC_LANE(rn, 1), s->rn[2] = RTC_LANE(rn, 2);
+    s->rf[0] = RTC_LANE(rf, 0), s->rf[1] = RTC_LANE(rf, 1), s->rf[2] = RTC_LANE(rf, 2);
+    s->cn[0] = RTC_LANE(cn, 0), s->cn[1] = RTC_LANE(cn, 1), s->cn[2] = RTC_LANE(cn, 2);
+    s->cf[0] = RTC_LANE(cf, 0), s->cf[1] = RTC_LANE(cf, 1), s->cf[2] = RTC_LANE(cf, 2);
+    s->tmin_n = RTC_SET1(r->tmin * (1.0f - 1.0f / 65536.0f));
+#undef RTC_LANE
 #endif
 #undef RTC_SET1
 }
 
-/* A ray none of whose axes culls in the fused test (rtc_axis_fused: all
+/* A ray none of whose axes culls in the fused test (rtc_axes_fused: all
  * three direction components below about 3e-39, denormal or zero, so rcp
  * is +-inf or too large to scale; or an origin so far out that org * rcp
  * overflows) leaves the FMA units nothing to cull with: every axis gives
@@ -123,8 +141,12 @@ static inline void rtc_lanes_init(rtc_lanes *s, const tt_wray *r)
  * same answers. One axis that culls suffices (an unused child's +inf
  * bounds then give +inf near or -inf far on it). */
 #if defined(__FMA__)
-#define RTC_BOX_NEEDS_SCALAR(r)                                                                   \
-    (!rtc_axis_fused((r), 0) && !rtc_axis_fused((r), 1) && !rtc_axis_fused((r), 2))
+static inline int rtc_box_needs_scalar(const tt_wray *r)
+{
+    __m128 rn, rf, cn, cf;
+    return rtc_axes_fused(r, &rn, &rf, &cn, &cf) == 0;
+}
+#define RTC_BOX_NEEDS_SCALAR(r) rtc_box_needs_scalar(r)
 #endif
 
 #if defined(__AVX512F__)
