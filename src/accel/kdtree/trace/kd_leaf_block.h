@@ -66,6 +66,16 @@ static inline unsigned kd_block8(const tt_kd_view *T, const tt_tri_block *b, con
         _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(U, zero, _CMP_GT_OQ), _mm256_cmp_ps(V, zero, _CMP_GT_OQ)),
                      _mm256_cmp_ps(W, zero, _CMP_GT_OQ));
     const __m256 det = _mm256_add_ps(_mm256_add_ps(U, V), W);
+    /* Most blocks a ray meets hold no lane inside all three edges (every
+     * block of an unoccluded shadow ray): stop before the depth and the
+     * division. A lane can only hit where its edge functions agree in sign
+     * and det is a nonzero number (NaN lanes: padding, zero area), or where
+     * one is zero (the scalar re-test below), so skipping the rest changes
+     * no answer. */
+    const unsigned redo = (unsigned)_mm256_movemask_ps(anyzero);
+    const __m256 maybe =
+        _mm256_andnot_ps(_mm256_and_ps(anyneg, anypos), _mm256_cmp_ps(det, zero, _CMP_NEQ_OQ));
+    if (!(_mm256_movemask_ps(maybe) | redo)) return 0;
     const __m256 T3 = _mm256_add_ps(
         _mm256_add_ps(_mm256_mul_ps(U, _mm256_mul_ps(sz, az)), _mm256_mul_ps(V, _mm256_mul_ps(sz, bz))),
         _mm256_mul_ps(W, _mm256_mul_ps(sz, cz)));
@@ -75,7 +85,6 @@ static inline unsigned kd_block8(const tt_kd_view *T, const tt_tri_block *b, con
     ok = _mm256_and_ps(ok, _mm256_cmp_ps(t, _mm256_set1_ps(r->tmin), _CMP_GE_OQ));
     ok = _mm256_and_ps(ok, _mm256_cmp_ps(t, _mm256_set1_ps(tmax), _CMP_LT_OQ));
     /* NaN lanes compare unequal to zero: never re-tested. */
-    const unsigned redo = (unsigned)_mm256_movemask_ps(anyzero);
     unsigned hits = (unsigned)_mm256_movemask_ps(ok) & ~redo;
     if (hits) {
         _mm256_storeu_ps(t_out, t);
