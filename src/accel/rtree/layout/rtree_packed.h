@@ -143,6 +143,15 @@ TT_HD const float *tt_rt_child_group(const tt_rtree_packed *t, uint32_t n, uint3
  * test is straight-line code. */
 typedef struct tt_rt_planes {
     uint32_t n[3], f[3];
+    /* The box test's absolute margin, 2^-21 max_k |org_k rcp_k| over the
+     * axes where that is finite (the FMA kernels' pad, rtc_box_x86.h): the
+     * watertight test's t errs by about the vertices' distance from the
+     * origin times 2^-24 (its translated coordinates), not by a fraction
+     * of t, so a short ray can find its hit on a triangle lying in a flat
+     * box's face a little before the box's entry; the relative 2^-16
+     * alone dropped such boxes (Sibenik, shadow rays ending on their
+     * occluder: bruteforce hit, the scalar and SSE R-tree missed). */
+    float pad;
 } tt_rt_planes;
 
 TT_HD void tt_rt_planes_init(tt_rt_planes *p, const tt_wray *r, uint32_t M)
@@ -152,6 +161,12 @@ TT_HD void tt_rt_planes_init(tt_rt_planes *p, const tt_wray *r, uint32_t M)
         p->n[k] = (neg ? k + 3 : k) * M;
         p->f[k] = (neg ? k : k + 3) * M;
     }
+    float pad = 0.0f;
+    for (uint32_t k = 0; k < 3; k++) {
+        const float x = fabsf(r->org[k] * r->rcp[k]); /* NaN or inf: no cull on k */
+        if (x < TT_INF && x > pad) pad = x;
+    }
+    p->pad = pad * (1.0f / 2097152.0f);
 }
 
 /* Slab test of the box whose lo x bound is at b (a group's start plus the
@@ -170,13 +185,14 @@ TT_HD float tt_rt_box_test_at(const tt_wray *r, const tt_rt_planes *p, const flo
     const float tnear = tt_slab_near(tn2, tt_slab_near(tn1, tt_slab_near(tn0, r->tmin)));
     float tfar = tt_slab_far(tf2, tt_slab_far(tf1, tt_slab_far(tf0, TT_INF)));
     tfar += fabsf(tfar) * (1.0f / 4194304.0f); /* widened away from 0, as in tt_ray_box */
+    tfar += p->pad;
     /* The entry distance is compared with hit distances from the triangle
      * test, a different computation: a triangle inside the box can come out
      * a few ulps nearer than the box's rounded entry (e.g. a flat box and a
      * ray whose tmax ends just behind the plane). Culling with the entry
      * lowered by a relative 2^-16 never drops such a box. A parallel ray
      * outside a slab has tnear = +inf and entry NaN: a miss. */
-    const float entry = tnear - fabsf(tnear) * (1.0f / 65536.0f);
+    const float entry = tnear - fabsf(tnear) * (1.0f / 65536.0f) - p->pad;
     return (tnear <= tfar && entry < tmax) ? entry : TT_INF;
 }
 
@@ -229,10 +245,12 @@ TT_HD void tt_rt_box_test4(const tt_rt_lanes *s, const tt_rt_planes *p,
     const __m128 tn = _mm_max_ps(tnz, _mm_max_ps(tny, _mm_max_ps(tnx, s->tmin)));
     const __m128 tf0 = _mm_min_ps(tfz, _mm_min_ps(tfy, _mm_min_ps(tfx, _mm_set1_ps(TT_INF))));
     const __m128 absmask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-    const __m128 tf =
-        _mm_add_ps(tf0, _mm_mul_ps(_mm_and_ps(tf0, absmask), _mm_set1_ps(1.0f / 4194304.0f)));
+    const __m128 pad = _mm_set1_ps(p->pad);
+    const __m128 tf = _mm_add_ps(
+        _mm_add_ps(tf0, _mm_mul_ps(_mm_and_ps(tf0, absmask), _mm_set1_ps(1.0f / 4194304.0f))), pad);
     const __m128 abs_tn = _mm_and_ps(tn, absmask);
-    const __m128 entry = _mm_sub_ps(tn, _mm_mul_ps(abs_tn, _mm_set1_ps(1.0f / 65536.0f)));
+    const __m128 entry =
+        _mm_sub_ps(_mm_sub_ps(tn, _mm_mul_ps(abs_tn, _mm_set1_ps(1.0f / 65536.0f))), pad);
     const __m128 hit = _mm_and_ps(_mm_cmple_ps(tn, tf), _mm_cmplt_ps(entry, _mm_set1_ps(tmax)));
     _mm_storeu_ps(out, _mm_or_ps(_mm_and_ps(hit, entry), _mm_andnot_ps(hit, _mm_set1_ps(TT_INF))));
 }

@@ -187,8 +187,13 @@ static inline uint32_t rtc_box4(const rtc_lanes *s, const tt_rt_planes *p, const
     const __m128 inf = _mm_set1_ps(TT_INF);
     const __m128 tn = _mm_max_ps(tnz, _mm_max_ps(tny, _mm_max_ps(tnx, RTC_LO128(s->tmin))));
     const __m128 tf0 = _mm_min_ps(tfz, _mm_min_ps(tfy, _mm_min_ps(tfx, inf)));
-    const __m128 tf = _mm_mul_ps(tf0, _mm_set1_ps(1.0f + 1.0f / 4194304.0f));
-    const __m128 entry = _mm_mul_ps(tn, _mm_set1_ps(1.0f - 1.0f / 65536.0f));
+    /* tt_rt_box_test_at's margins (its pad: tt_rt_planes), the same
+     * operations: tf0 + |tf0| 2^-22 (not tf0 (1 + 2^-22): tf0 < 0 can now
+     * pass, padded) */
+    const __m128 pad = _mm_set1_ps(p->pad);
+    const __m128 atf = _mm_and_ps(tf0, _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)));
+    const __m128 tf = _mm_add_ps(_mm_add_ps(tf0, _mm_mul_ps(atf, _mm_set1_ps(1.0f / 4194304.0f))), pad);
+    const __m128 entry = _mm_sub_ps(_mm_mul_ps(tn, _mm_set1_ps(1.0f - 1.0f / 65536.0f)), pad);
     const __m128 hit = _mm_and_ps(_mm_cmple_ps(tn, tf), _mm_cmplt_ps(entry, _mm_set1_ps(tmax)));
     _mm_storeu_ps(out, _mm_or_ps(_mm_and_ps(hit, entry), _mm_andnot_ps(hit, inf)));
     return (uint32_t)_mm_movemask_ps(hit);

@@ -100,6 +100,17 @@ typedef struct pk_rays {
     _Alignas(64) float fy[PK_N];
     _Alignas(64) float fz[PK_N];
     _Alignas(64) float tcf[PK_N];
+    /* an absolute margin a lane's box test adds to its far and takes off
+     * its near distances, 2^-20 max_k |org_k rcp_k| over the axes where
+     * that is finite: the single-ray FMA kernels' pad (rtc_box_x86.h),
+     * doubled. The watertight triangle test's t errs by roughly the
+     * vertices' distance from the origin times 2^-24 (its translated
+     * coordinates), not by a fraction of t: a short ray (a shadow ray
+     * ending on a triangle far wider than it is long) finds its hit up
+     * to ~2^-22 of the scene's size before the plane of a flat box, and
+     * the relative margins alone culled that box where the single ray
+     * kept it (test_packets' shadow rays ending on occluders, Sibenik). */
+    _Alignas(64) float pad[PK_N];
     _Alignas(64) float u[PK_N];
     _Alignas(64) float v[PK_N];
     _Alignas(64) float sx[PK_N];
@@ -117,6 +128,7 @@ typedef struct pk_rays {
     int ia;                    /* interval test usable (finite reciprocals) */
     float omin[3], omax[3], rmin[3], rmax[3], tmin_min;
     float tcut_max; /* no ray's test keeps a box entered beyond it */
+    float pad_max;  /* the largest pad: the interval test's far margin */
     /* lane l's ray for the single-ray triangle tests, built on first use
      * (pk_wray): only the fallbacks want it (a group's few lanes or mixed
      * shears at a leaf, zero edge functions) */
@@ -236,7 +248,7 @@ TT_RT_INLINE uint32_t pk_child_occ_wide(const pk_cbox *cb, const pk_rays *P, uin
     const pk_v tfz = PK_MUL(PK_SUB(cb->f[2], oz), PK_LOAD(P->fz + o));
     const pk_v tn = PK_MAX(tnz, PK_MAX(tny, PK_MAX(tnx, PK_LOAD(P->tmin + o))));
     const pk_v tc = PK_MIN(tfz, PK_MIN(tfy, PK_MIN(tfx, PK_LOAD(P->tcf + o))));
-    return PK_BITS(PK_CMP_LE(tn, tc));
+    return PK_BITS(PK_CMP_LE(tn, PK_ADD(tc, PK_LOAD(P->pad + o))));
 }
 
 /* rtc_pk_load's reciprocals and tcut times 1 + 2^-20 into fx, fy, fz, tcf
@@ -380,7 +392,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_block))(pk_rays *P, const int any, ui
  * uint32_t fields may alias the walk's masks, 174 instructions a node). */
 typedef struct TT_VARIANT(RTC_FN(pk_consts)) {
     uint32_t nr[3], fr[3];
-    pk_v on[3], of[3], rlo[3], rhi[3], tn, tf;
+    pk_v on[3], of[3], rlo[3], rhi[3], tn, tf, pad;
 } TT_VARIANT(RTC_FN(pk_consts));
 
 TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_consts))(const pk_rays *P, uint32_t S,
@@ -397,6 +409,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_consts))(const pk_rays *P, uint32_t S
     }
     A->tn = PK_SET1(P->tmin_min);
     A->tf = PK_SET1(P->tcut_max);
+    A->pad = PK_SET1(P->pad_max);
 }
 
 /* The interval test of all S children of node record rec against the
@@ -415,7 +428,8 @@ TT_RT_INLINE uint32_t TT_VARIANT(RTC_FN(rtc_pk_interval))(const TT_VARIANT(RTC_F
             tn = PK_MAX(PK_MIN(PK_MUL(dn, A->rlo[k]), PK_MUL(dn, A->rhi[k])), tn);
             tf = PK_MIN(PK_MAX(PK_MUL(df, A->rlo[k]), PK_MUL(df, A->rhi[k])), tf);
         }
-        tf = PK_ADD(tf, PK_MUL(PK_ABS(tf), PK_SET1(c1)));
+        /* each ray's far bound is padded too (pk_rays.pad) */
+        tf = PK_ADD(PK_ADD(tf, PK_MUL(PK_ABS(tf), PK_SET1(c1))), A->pad);
         PK_STOREU(tn_out + i, tn);
         keep |= (PK_BITS(PK_CMP_GT(tn, tf)) ^ ((1u << PK_L) - 1u)) << i;
     }
@@ -497,9 +511,10 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                 pk_v tf3[3];
                 const pk_v tn = pk_child_slabs(&cb, P, o, tf3);
                 const pk_v tfx = tf3[0], tfy = tf3[1], tfz = tf3[2];
+                const pk_v pad = PK_LOAD(P->pad + o);
                 if (lean) {
                     const pk_v tc = PK_MIN(tfz, PK_MIN(tfy, PK_MIN(tfx, PK_LOAD(P->tcut + o))));
-                    const pk_v tfc = PK_ADD(tc, PK_MUL(PK_ABS(tc), PK_SET1(c1)));
+                    const pk_v tfc = PK_ADD(PK_ADD(tc, PK_MUL(PK_ABS(tc), PK_SET1(c1))), pad);
                     const uint32_t h = PK_BITS(PK_CMP_LE(tn, tfc)) & m;
                     if (!h) continue;
                     mk[g] = h;
@@ -508,8 +523,8 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
                     continue;
                 }
                 const pk_v tf0 = PK_MIN(tfz, PK_MIN(tfy, PK_MIN(tfx, inf)));
-                const pk_v tf = PK_ADD(tf0, PK_MUL(PK_ABS(tf0), PK_SET1(c1)));
-                const pk_v entry = PK_SUB(tn, PK_MUL(PK_ABS(tn), PK_SET1(c2)));
+                const pk_v tf = PK_ADD(PK_ADD(tf0, PK_MUL(PK_ABS(tf0), PK_SET1(c1))), pad);
+                const pk_v entry = PK_SUB(PK_SUB(tn, PK_MUL(PK_ABS(tn), PK_SET1(c2))), pad);
                 const pk_m hm = PK_MAND(PK_CMP_LE(tn, tf), PK_CMP_LT(entry, PK_LOAD(P->t + o)));
                 const uint32_t h = PK_BITS(hm) & m;
                 if (!h) continue;
@@ -698,7 +713,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
                     const pk_v tn = pk_child_slabs(&cb, P, o, tf3);
                     const pk_v tc =
                         PK_MIN(tf3[2], PK_MIN(tf3[1], PK_MIN(tf3[0], PK_LOAD(P->tcut + o))));
-                    const pk_v tfc = PK_ADD(tc, PK_MUL(PK_ABS(tc), c1));
+                    const pk_v tfc = PK_ADD(PK_ADD(tc, PK_MUL(PK_ABS(tc), c1)), PK_LOAD(P->pad + o));
                     h |= (PK_BITS(PK_CMP_LE(tn, tfc)) & mg) << o;
                 }
                 h &= m;
@@ -844,7 +859,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_packet_ra
     memset(P->prim, 0xff, lanes * sizeof(uint32_t)); /* TT_INVALID_ID */
     const pk_v zero = PK_SET1(0.0f), one = PK_SET1(1.0f);
     const pk_v inf = PK_SET1(TT_INF), ninf = PK_SET1(-TT_INF);
-    pk_v mag = zero, tlo = inf, thi = zero;
+    pk_v mag = zero, tlo = inf, thi = zero, pmax = zero;
     pk_v olo[3] = {inf, inf, inf}, ohi[3] = {ninf, ninf, ninf};
     pk_v rlo[3] = {inf, inf, inf}, rhi[3] = {ninf, ninf, ninf};
     float *const orow[3] = {P->ox, P->oy, P->oz}, *const rrow[3] = {P->rx, P->ry, P->rz};
@@ -852,19 +867,29 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_packet_ra
         const uint32_t o = g * PK_L;
         const pk_v x = PK_LOAD(d[0] + o), y = PK_LOAD(d[1] + o), z = PK_LOAD(d[2] + o);
         const pk_v dv[3] = {x, y, z};
+        pk_v pad = zero;
         for (uint32_t k = 0; k < 3; k++) {
             const pk_v r = PK_DIV(one, dv[k]), ov = PK_LOAD(orow[k] + o);
             PK_STORE(rrow[k] + o, r);
+            /* |org rcp| where finite (a zero direction component: that
+             * axis does not cull, as in the FMA kernels) */
+            const pk_v axr = PK_ABS(PK_MUL(ov, r));
+            pad = PK_MAX(PK_BLEND(PK_CMP_LT(axr, inf), zero, axr), pad);
             olo[k] = PK_MIN(ov, olo[k]);
             ohi[k] = PK_MAX(ov, ohi[k]);
             rlo[k] = PK_MIN(r, rlo[k]);
             rhi[k] = PK_MAX(r, rhi[k]);
             mag = PK_MAX(PK_ABS(r), mag);
         }
+        pad = PK_MUL(pad, PK_SET1(1.0f / 1048576.0f));
+        PK_STORE(P->pad + o, pad);
+        pmax = PK_MAX(pad, pmax);
         const pk_v tmax = PK_LOAD(P->t + o);
-        /* "tn - |tn| 2^-16 < t" (the full test's entry) implies
-         * tn <= tcut, for t >= 0 */
-        const pk_v tcut = PK_ADD(tmax, PK_MUL(PK_ABS(tmax), PK_SET1(1.0f / 32768.0f)));
+        /* "tn - |tn| 2^-16 - pad < t" (the full test's entry) implies
+         * tn <= tcut, for t >= 0: tn < (t + pad) (1 + 2^-16 + ...), and
+         * 2^-15 and pad (1 + 2^-14) leave room for the roundings */
+        const pk_v tcut = PK_ADD(PK_ADD(tmax, PK_MUL(PK_ABS(tmax), PK_SET1(1.0f / 32768.0f))),
+                                 PK_MUL(pad, PK_SET1(1.0f + 1.0f / 16384.0f)));
         PK_STORE(P->tcut + o, tcut);
         tlo = PK_MIN(PK_LOAD(P->tmin + o), tlo);
         thi = PK_MAX(tcut, thi);
@@ -911,6 +936,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_packet_ra
      * packet's far bound starts at the largest tcut, not infinity (shadow
      * rays: boxes past the light go) */
     P->tcut_max = PK_HMAX(thi);
+    P->pad_max = PK_HMAX(pmax);
     /* finite reciprocals (the batch's rays have no NaN) */
     P->ia = PK_HMAX(mag) < TT_INF;
 }
