@@ -116,7 +116,7 @@ void rt_node_bounds(const rt_builder *b, uint32_t n, float out[6])
     }
 }
 
-static void add_entry(rt_builder *b, uint32_t n, const float e[6], uint32_t c)
+void rt_builder_put(rt_builder *b, uint32_t n, const float e[6], uint32_t c)
 {
     int i = b->hdr[n].count++;
     rt_builder_touch(b, n);
@@ -291,7 +291,7 @@ static tt_status split_node(rt_builder *b, uint32_t n)
         float eb[6];
         rt_soa_get(s, cap, i, eb);
         if (group[i]) {
-            add_entry(b, n2, eb, ch[i]);
+            rt_builder_put(b, n2, eb, ch[i]);
         } else {
             rt_soa_put(s, cap, kept, eb);
             ch[kept] = ch[i];
@@ -306,14 +306,14 @@ static tt_status split_node(rt_builder *b, uint32_t n)
     rt_node_bounds(b, n, nb);
     rt_node_bounds(b, n2, n2b);
     if (is_root) {
-        add_entry(b, r, nb, n);
-        add_entry(b, r, n2b, n2);
+        rt_builder_put(b, r, nb, n);
+        rt_builder_put(b, r, n2b, n2);
         b->root = r;
         return TT_OK;
     }
     uint32_t p = b->hdr[n].parent;
     rt_soa_put(rt_node_box(b, p), cap, b->hdr[n].slot, nb);
-    add_entry(b, p, n2b, n2); /* touches p */
+    rt_builder_put(b, p, n2b, n2); /* touches p */
     /* overflow treatment propagates upwards */
     if (b->hdr[p].count > b->M) return overflow(b, p);
     return TT_OK;
@@ -574,14 +574,14 @@ static tt_status insert_triangle_sah(rt_builder *b, const float e[6], uint32_t c
         uint32_t leaf;
         tt_status st = new_node(b, 0, &leaf);
         if (st != TT_OK) return st;
-        add_entry(b, leaf, e, c);
-        add_entry(b, n, e, leaf);
+        rt_builder_put(b, leaf, e, c);
+        rt_builder_put(b, n, e, leaf);
         if (b->hdr[n].count > b->M) return overflow(b, n);
         return TT_OK;
     }
     grow_entry(b, n, i, e);
     const uint32_t leaf = rt_node_child(b, n)[i];
-    add_entry(b, leaf, e, c);
+    rt_builder_put(b, leaf, e, c);
     if (b->hdr[leaf].count > b->M) return overflow(b, leaf);
     return TT_OK;
 }
@@ -598,7 +598,7 @@ static tt_status insert_entry(rt_builder *b, const float e[6], uint32_t c, int l
         grow_entry(b, n, i, e);
         n = rt_node_child(b, n)[i];
     }
-    add_entry(b, n, e, c);
+    rt_builder_put(b, n, e, c);
     if (b->hdr[n].count > b->M) return overflow(b, n);
     return TT_OK;
 }

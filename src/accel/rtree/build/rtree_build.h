@@ -113,6 +113,11 @@ tt_status rt_builder_insert_triangle(rt_builder *b, uint32_t id);
  * strategy, splits and forced reinsert of a top-level insertion. */
 tt_status rt_builder_new_node(rt_builder *b, int level, uint32_t *out);
 tt_status rt_builder_insert_entry(rt_builder *b, const float e[6], uint32_t c, int level);
+/* Entry (e, c) appended to node n, whose room the caller has checked: the
+ * child's parent link (or, at level 0, the triangle's leaf) is set and the
+ * node touched. The builder's, the update's rebuild's and the compaction's
+ * one way to place an entry. */
+void rt_builder_put(rt_builder *b, uint32_t n, const float e[6], uint32_t c);
 
 /* The box of everything in node n (the union of its entries). */
 void rt_node_bounds(const rt_builder *b, uint32_t n, float out[6]);

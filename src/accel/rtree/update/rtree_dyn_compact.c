@@ -12,20 +12,6 @@
 
 static void map_all(rt_dyn *d, const tt_rtc *c);
 
-/* Entry (e, c) appended to node n, parent links kept. */
-static void put_entry(rt_builder *b, uint32_t n, const float e[6], uint32_t c)
-{
-    const int i = b->hdr[n].count++;
-    rt_soa_put(rt_node_box(b, n), b->cap, i, e);
-    rt_node_child(b, n)[i] = c;
-    if (b->hdr[n].level > 0) {
-        b->hdr[c].parent = n;
-        b->hdr[c].slot = (uint8_t)i;
-    } else {
-        b->leaf_of[c] = n;
-    }
-}
-
 /* Record r (and its subtree) as pointer-tree nodes; *out the node. Boxes
  * are recomputed afterwards (rt_dyn_refit_all) from the ids' boxes. */
 static tt_status from_record(rt_dyn *d, const tt_rtc *c, uint32_t r, uint32_t *out)
@@ -47,14 +33,14 @@ static tt_status from_record(rt_dyn *d, const tt_rtc *c, uint32_t r, uint32_t *o
             for (uint32_t k = 0; k < tt_rtc_leaf_count(ref[i]); k++) {
                 const uint64_t g = first + k;
                 const uint32_t id = c->block[g / TT_TRI_BLOCK_W].prim[g % TT_TRI_BLOCK_W];
-                put_entry(b, child, d->tri_box + 6 * (size_t)id, id);
+                rt_builder_put(b, child, d->tri_box + 6 * (size_t)id, id);
                 b->triangles++;
             }
         } else {
             st = from_record(d, c, ref[i], &child);
             if (st != TT_OK) break;
         }
-        put_entry(b, n, zero, child);
+        rt_builder_put(b, n, zero, child);
     }
     *out = n;
     return st;

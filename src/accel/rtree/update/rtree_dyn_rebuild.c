@@ -38,21 +38,6 @@ static float spread(const rt_builder *b, uint32_t p)
     return a > 0.0f ? sum / a : 0.0f;
 }
 
-/* Entry (e, c) appended to node n (room checked by the caller). */
-static void put(rt_builder *b, uint32_t n, const float e[6], uint32_t c)
-{
-    const int i = b->hdr[n].count++;
-    rt_builder_touch(b, n);
-    rt_soa_put(rt_node_box(b, n), b->cap, i, e);
-    rt_node_child(b, n)[i] = c;
-    if (b->hdr[n].level > 0) {
-        b->hdr[c].parent = n;
-        b->hdr[c].slot = (uint8_t)i;
-    } else {
-        b->leaf_of[c] = n;
-    }
-}
-
 /* Level-2 node p's subtree rebuilt by the SAH loader with height 2 (its
  * level-1 nodes become p's entries); left as it is where the loader would
  * not give 2 .. M level-1 nodes. The triangles and so p's box stay. */
@@ -113,11 +98,11 @@ static tt_status rebuild(rt_dyn *d, uint32_t p, int *done)
                 if (st != TT_OK) break;
                 for (uint32_t q = lv.first[0][k]; q < lv.first[0][k + 1]; q++) {
                     const uint32_t id = ids[lv.order[q]];
-                    put(b, leaf, d->tri_box + 6 * (size_t)id, id);
+                    rt_builder_put(b, leaf, d->tri_box + 6 * (size_t)id, id);
                 }
-                put(b, n1, lv.box[0] + 6 * (size_t)k, leaf);
+                rt_builder_put(b, n1, lv.box[0] + 6 * (size_t)k, leaf);
             }
-            if (st == TT_OK) put(b, p, lv.box[1] + 6 * (size_t)j, n1);
+            if (st == TT_OK) rt_builder_put(b, p, lv.box[1] + 6 * (size_t)j, n1);
         }
         if (st == TT_OK) st = rt_dyn_node_arrays(d);
         *done = 1;
