@@ -400,12 +400,7 @@ static void scene_view(tt_context *ctx, const char *file, const char *view, int 
         for (int isa = TT_ISA_FIRST; isa <= TT_ISA_LAST; isa++) {
             if (!tt_isa_supported((tt_isa)isa)) continue;
             if (strcmp(names[s], "bruteforce") == 0 && isa != TT_ISA_FIRST) continue;
-            tt_build_options o;
-            tt_build_options_default(&o);
-            o.accel = names[s];
-            o.isa = (tt_isa)isa;
-            tt_accel *a = NULL;
-            REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &o, &a));
+            tt_accel *a = tt_test_build_isa(ctx, scene, names[s], (tt_isa)isa);
             char what[128];
             snprintf(what, sizeof what, "%s %s primary", view, tt_isa_name((tt_isa)isa));
             check_rays(a, primary, (size_t)SIZE * SIZE, SIZE, what);

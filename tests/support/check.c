@@ -153,14 +153,20 @@ int tt_test_has_accel(const char *name)
     return 0;
 }
 
-tt_accel *tt_test_build_default(tt_context *ctx, const tt_scene *scene, const char *name)
+tt_accel *tt_test_build_isa(tt_context *ctx, const tt_scene *scene, const char *name, tt_isa isa)
 {
     tt_build_options opt;
     tt_build_options_default(&opt);
     opt.accel = name;
+    opt.isa = isa;
     tt_accel *a = NULL;
     REQUIRE_OK(ctx, tt_accel_build(ctx, scene, &opt, &a));
     return a;
+}
+
+tt_accel *tt_test_build_default(tt_context *ctx, const tt_scene *scene, const char *name)
+{
+    return tt_test_build_isa(ctx, scene, name, TT_ISA_AUTO);
 }
 
 typedef struct stat_lookup {

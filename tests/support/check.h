@@ -100,5 +100,7 @@ int tt_test_has_accel(const char *name);
 double tt_test_stat(const tt_accel *accel, const char *name);
 /* Builds structure `name` with default options, failing the test on error. */
 tt_accel *tt_test_build_default(tt_context *ctx, const tt_scene *scene, const char *name);
+/* The same with the kernels of `isa` (TT_ISA_AUTO: tt_test_build_default). */
+tt_accel *tt_test_build_isa(tt_context *ctx, const tt_scene *scene, const char *name, tt_isa isa);
 
 #endif
