@@ -189,9 +189,10 @@ TT_HD float tt_rt_box_test_at(const tt_wray *r, const tt_rt_planes *p, const flo
     /* The entry distance is compared with hit distances from the triangle
      * test, a different computation: a triangle inside the box can come out
      * a few ulps nearer than the box's rounded entry (e.g. a flat box and a
-     * ray whose tmax ends just behind the plane). Culling with the entry
-     * lowered by a relative 2^-16 never drops such a box. A parallel ray
-     * outside a slab has tnear = +inf and entry NaN: a miss. */
+     * ray whose tmax ends just behind the plane). The entry is lowered by a
+     * relative 2^-16 and by the pad (tt_rt_planes.pad: that error grows
+     * with the vertices' distance from the origin, not with t). A parallel
+     * ray outside a slab has tnear = +inf and entry NaN (inf - inf): a miss. */
     const float entry = tnear - fabsf(tnear) * (1.0f / 65536.0f) - p->pad;
     return (tnear <= tfar && entry < tmax) ? entry : TT_INF;
 }

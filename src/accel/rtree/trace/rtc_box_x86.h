@@ -36,10 +36,10 @@
  * -ffp-contract=off): max(candidate, accumulator) and min(candidate,
  * accumulator) return the accumulator when either operand is NaN, exactly
  * tt_slab_near / tt_slab_far; the ordered compares are false on NaN like
- * the scalar <= and <. The widenings tf + |tf| 2^-22 and tn - |tn| 2^-16
- * are single multiplications, tf (1 + 2^-22) and tn (1 - 2^-16): the same
- * real value rounded once, so the same float (tn >= tmin >= 0 always; a
- * negative tf is a miss either way). A lane's result is its entry distance
+ * the scalar <= and <. The far widening is the same tf + |tf| 2^-22 and
+ * pad (tt_rt_planes.pad); the entry's tn - |tn| 2^-16 is the single
+ * multiplication tn (1 - 2^-16), the same real value rounded once, so the
+ * same float (tn >= tmin >= 0 always), less the pad. A lane's result is its entry distance
  * on a hit, +inf on a miss (FMA units: see above), and the returned mask has bit i set for a hit
  * of child i. */
 #ifndef TT_ACCEL_RTREE_RTC_BOX_X86_H
