@@ -116,27 +116,15 @@ static uint32_t classify(nl_state *s, const uint64_t *ev, size_t n_ev, const kd_
     return nb;
 }
 
-/* Clips the straddlers to one child cell: their sorted events per axis in
- * out (3 runs of at most 2 nb each, starting at out + 2 nb * axis), the
- * run lengths in len, and how many survived the clip. */
-static uint32_t reclip(nl_state *s, uint32_t nb, const tt_aabb *cell, uint64_t *out, uint64_t *tmp,
-                       size_t len[3])
+/* Sorts each of the 3 runs (2 nb apart, lengths len) of re-clipped
+ * straddlers' events. */
+static void sort_runs(uint64_t *out, uint64_t *tmp, uint32_t nb, const size_t len[3])
 {
-    uint32_t kept = 0;
-    len[0] = len[1] = len[2] = 0;
-    for (uint32_t i = 0; i < nb; i++) {
-        tt_aabb box;
-        if (!kd_clip_triangle(s->tri + 9 * (size_t)s->ids[i], cell, &box)) continue;
-        kept++;
-        for (int k = 0; k < 3; k++)
-            len[k] += kd_events_of(out + 2 * (size_t)nb * k + len[k], box.lo[k], box.hi[k], s->ids[i]);
-    }
     /* Order among events of equal position and type does not matter: the
      * sweep and classification look only at position and type, and leaves
      * sort their ids. One triangle's events are in order already (its
      * START before its END, at a higher position). Most nodes re-clip a
      * straddler or two: short runs are sorted here, not through calls. */
-    if (kept <= 1) return kept;
     for (int k = 0; k < 3; k++) {
         uint64_t *run = out + 2 * (size_t)nb * k;
         if (len[k] > 16) {
@@ -150,7 +138,37 @@ static uint32_t reclip(nl_state *s, uint32_t nb, const tt_aabb *cell, uint64_t *
             run[j] = x;
         }
     }
-    return kept;
+}
+
+/* Clips the straddlers to both child cells (kd_clip_triangle_split):
+ * each child's sorted events per axis in lout / rout (3 runs of at most
+ * 2 nb each, starting at out + 2 nb * axis), the run lengths in llen /
+ * rlen, and how many survived the clip on each side. */
+static void reclip(nl_state *s, uint32_t nb, const tt_aabb *cell, const kd_split *sp, uint64_t *lout,
+                   uint64_t *rout, uint64_t *tmp, size_t llen[3], size_t rlen[3], uint32_t *lkept,
+                   uint32_t *rkept)
+{
+    uint32_t kl = 0, kr = 0;
+    for (int k = 0; k < 3; k++) llen[k] = rlen[k] = 0;
+    for (uint32_t i = 0; i < nb; i++) {
+        tt_aabb lbox, rbox;
+        const uint32_t t = s->ids[i];
+        const int kept = kd_clip_triangle_split(s->tri + 9 * (size_t)t, cell, sp->axis, sp->pos, &lbox, &rbox);
+        if (kept & 1) {
+            kl++;
+            for (int k = 0; k < 3; k++)
+                llen[k] += kd_events_of(lout + 2 * (size_t)nb * k + llen[k], lbox.lo[k], lbox.hi[k], t);
+        }
+        if (kept & 2) {
+            kr++;
+            for (int k = 0; k < 3; k++)
+                rlen[k] += kd_events_of(rout + 2 * (size_t)nb * k + rlen[k], rbox.lo[k], rbox.hi[k], t);
+        }
+    }
+    if (kl > 1) sort_runs(lout, tmp, nb, llen);
+    if (kr > 1) sort_runs(rout, tmp, nb, rlen);
+    *lkept = kl;
+    *rkept = kr;
 }
 
 /* One axis of a split: the parent's events of one-sided triangles (their
@@ -311,8 +329,10 @@ static tt_status split_node(kd_builder *b, nl_state *s, nl_lists *lists, uint32_
         /* Straddlers' events: left runs, right runs, sort scratch. */
         uint64_t *lclip = s->clip, *rclip = s->clip + 6 * (size_t)nb, *tmp = s->clip + 12 * (size_t)nb;
         size_t llen[3], rlen[3];
-        nl += reclip(s, nb, lcell, lclip, tmp, llen);
-        nr += reclip(s, nb, rcell, rclip, tmp, rlen);
+        uint32_t kl, kr;
+        reclip(s, nb, cell, split, lclip, rclip, tmp, llen, rlen, &kl, &kr);
+        nl += kl;
+        nr += kr;
         kd_account_split(b, n, nl, nr);
         if (!child_lists(s, lists, depth + 1, own, nl, nr, lclip, llen, rclip, rlen, nb, left, right))
             st = kd_oom(b);
