@@ -3,6 +3,7 @@
 
 #include "accel/kdtree/kd_lines.h"
 
+#include <omp.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -62,16 +63,29 @@ tt_status tt_kdtree_blocks_build(tt_context *ctx, tt_kdtree *t, const float *tri
     /* The kernels load blocks with aligned loads. */
     tt_tri_block *blocks = (tt_tri_block *)(((uintptr_t)mem + 63) & ~(uintptr_t)63);
     memcpy(nodes, t->nodes, (size_t)t->node_slots * sizeof *nodes);
-    uint32_t next = 0;
+    /* The blocks' places first (a prefix count), then the packing, which
+     * ran alone on one thread at the end of every build: leaves are
+     * packed on the context's threads, each into its own place, so the
+     * blocks are the same. A leaf list that cannot be had packs serially. */
+    uint32_t next = 0, packs = 0;
+    uint32_t *leaf = tt_alloc_array(ctx, t->leaves ? t->leaves : 1, sizeof *leaf);
     KD_FOR_NODES(t, i, {
         const tt_kd_node n = t->nodes[i];
         if (!tt_kd_is_leaf(n.bits)) continue;
         const uint32_t c = tt_kd_leaf_count(n.bits);
         nodes[i].u.first = c ? next : 0u;
         if (c == 0) continue; /* (an empty scene has no refs[] at all) */
-        tt_tri_block_pack(tri, t->refs + n.u.first, c, blocks + next);
+        if (leaf && packs < t->leaves) leaf[packs++] = i;
+        else tt_tri_block_pack(tri, t->refs + n.u.first, c, blocks + next);
         next += tt_tri_block_count(c);
     })
+    const int threads = tt_context_threads(ctx) > 0 ? tt_context_threads(ctx) : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1024) num_threads(threads) if (packs > 8192)
+    for (uint32_t j = 0; j < packs; j++) {
+        const tt_kd_node n = t->nodes[leaf[j]];
+        tt_tri_block_pack(tri, t->refs + n.u.first, tt_kd_leaf_count(n.bits), blocks + nodes[leaf[j]].u.first);
+    }
+    tt_free(ctx, leaf);
     t->block_nodes = nodes;
     t->block_mem = mem;
     t->block_count = next;

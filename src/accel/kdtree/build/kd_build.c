@@ -39,6 +39,10 @@ void kd_sweep(const kd_builder *b, const uint64_t *ev, size_t n_ev, uint32_t n,
     /* SA(child) = 2 (e_u e_v + e_axis (e_u + e_v)); only e_axis varies. */
     const double cap = ext[u] * ext[v] / area, side = (ext[u] + ext[v]) / area;
     const double lo = cell->lo[axis], hi = cell->hi[axis];
+    /* The parameters and the best split so far in locals: stores to *best
+     * made the compiler reload them (and b's costs) at every position. */
+    const double ct = b->ct, ci = b->ci, ef = b->empty_factor;
+    kd_split mine = *best;
     uint32_t nl = 0, nr = n;
     size_t i = 0;
     while (i < n_ev) {
@@ -59,13 +63,13 @@ void kd_sweep(const kd_builder *b, const uint64_t *ev, size_t n_ev, uint32_t n,
             /* Planar triangles on the right, then on the left (W&H); with
              * none in the plane both costs are the same number. */
             uint32_t l2 = nl, r2 = nr + planars;
-            double c = b->ct + b->ci * (pl * l2 + pr * r2);
-            if (l2 == 0 || r2 == 0) c *= b->empty_factor;
+            double c = ct + ci * (pl * l2 + pr * r2);
+            if (l2 == 0 || r2 == 0) c *= ef;
             int planar_left = 0;
             if (planars) {
                 const uint32_t l1 = nl + planars, r1 = nr;
-                double c1 = b->ct + b->ci * (pl * l1 + pr * r1);
-                if (l1 == 0 || r1 == 0) c1 *= b->empty_factor;
+                double c1 = ct + ci * (pl * l1 + pr * r1);
+                if (l1 == 0 || r1 == 0) c1 *= ef;
                 planar_left = c1 < c;
                 if (planar_left) {
                     c = c1;
@@ -73,10 +77,11 @@ void kd_sweep(const kd_builder *b, const uint64_t *ev, size_t n_ev, uint32_t n,
                     r2 = r1;
                 }
             }
-            kd_split_offer(best, c, axis, p, planar_left, l2, r2);
+            kd_split_offer(&mine, c, axis, p, planar_left, l2, r2);
         }
         nl += starts + planars;
     }
+    *best = mine;
 }
 
 /* The SAH prices rays, not memory. Where a split's two children together

@@ -70,43 +70,63 @@ static float round_up(double d)
     return ((double)f < d) ? step_float(f, 1) : f;
 }
 
+/* A clip in progress: the polygon (cur), the other buffer, and whether
+ * a plane has cut it yet (until then it is the triangle, whose bounds are
+ * known). */
+typedef struct clip_state {
+    poly *cur, *next;
+    int cut;
+} clip_state;
+
+/* Clips the polygon to the slab lo <= x[k] <= hi. Planes the polygon does
+ * not cross are skipped (exactly the same polygon, fewer rounding
+ * steps). */
+static inline void clip_axis(clip_state *s, const double tlo[3], const double thi[3], int k,
+                             double lo, double hi)
+{
+    double plo = tlo[k], phi = thi[k];
+    if (s->cut) {
+        plo = INFINITY;
+        phi = -INFINITY;
+        for (int i = 0; i < s->cur->n; i++) {
+            plo = dmin(plo, s->cur->v[i][k]);
+            phi = dmax(phi, s->cur->v[i][k]);
+        }
+    }
+    if (plo < lo) {
+        clip_plane(s->cur, s->next, k, lo, 1);
+        poly *t = s->cur;
+        s->cur = s->next;
+        s->next = t;
+        s->cut = 1;
+    }
+    if (phi > hi) {
+        clip_plane(s->cur, s->next, k, hi, 0);
+        poly *t = s->cur;
+        s->cur = s->next;
+        s->next = t;
+        s->cut = 1;
+    }
+}
+
 /* Clips the triangle held in a (whose bounds are tlo, thi and touch the
- * box) to the box; returns the resulting polygon, a or b. Planes the
- * polygon does not cross are skipped (exactly the same polygon, fewer
- * rounding steps). Until a plane cuts, the polygon is the triangle and its
- * bounds are known. */
+ * box) to the box, axis by axis from axis k0 on, and returns the polygon
+ * (a or b). */
+static const poly *clip_from(clip_state *s, const double tlo[3], const double thi[3],
+                             const double lo[3], const double hi[3], int k0)
+{
+    for (int k = k0; k < 3; k++) {
+        clip_axis(s, tlo, thi, k, lo[k], hi[k]);
+        if (s->cur->n == 0) break;
+    }
+    return s->cur;
+}
+
 static const poly *clip_to_box(poly *a, poly *b, const double tlo[3], const double thi[3],
                                const double lo[3], const double hi[3])
 {
-    poly *cur = a, *next = b;
-    int cut = 0;
-    for (int k = 0; k < 3; k++) {
-        double plo = tlo[k], phi = thi[k];
-        if (cut) {
-            plo = INFINITY;
-            phi = -INFINITY;
-            for (int i = 0; i < cur->n; i++) {
-                plo = dmin(plo, cur->v[i][k]);
-                phi = dmax(phi, cur->v[i][k]);
-            }
-        }
-        if (plo < lo[k]) {
-            clip_plane(cur, next, k, lo[k], 1);
-            poly *t = cur;
-            cur = next;
-            next = t;
-            cut = 1;
-        }
-        if (phi > hi[k]) {
-            clip_plane(cur, next, k, hi[k], 0);
-            poly *t = cur;
-            cur = next;
-            next = t;
-            cut = 1;
-        }
-        if (cur->n == 0) break;
-    }
-    return cur;
+    clip_state s = {a, b, 0};
+    return clip_from(&s, tlo, thi, lo, hi, 0);
 }
 
 static void load_triangle(const float *tri, poly *a)
@@ -132,33 +152,32 @@ int kd_clip_polygon(const float *tri, const double lo[3], const double hi[3],
     return p->n;
 }
 
-int kd_clip_triangle(const float *tri, const tt_aabb *box, tt_aabb *out)
+enum { PLACE_OUTSIDE, PLACE_INSIDE, PLACE_CROSSES };
+
+static void triangle_bounds(const float *tri, tt_aabb *tb)
 {
-    tt_aabb tb;
     for (int k = 0; k < 3; k++) {
         float a = tri[k], b = tri[3 + k], c = tri[6 + k];
-        tb.lo[k] = a < b ? (a < c ? a : c) : (b < c ? b : c);
-        tb.hi[k] = a > b ? (a > c ? a : c) : (b > c ? b : c);
+        tb->lo[k] = a < b ? (a < c ? a : c) : (b < c ? b : c);
+        tb->hi[k] = a > b ? (a > c ? a : c) : (b > c ? b : c);
     }
+}
+
+/* Where triangle bounds tb lie against the closed box. */
+static int place(const tt_aabb *tb, const tt_aabb *box)
+{
     int inside = 1;
     for (int k = 0; k < 3; k++) {
-        if (tb.hi[k] < box->lo[k] || tb.lo[k] > box->hi[k]) return 0;
-        if (tb.lo[k] < box->lo[k] || tb.hi[k] > box->hi[k]) inside = 0;
+        if (tb->hi[k] < box->lo[k] || tb->lo[k] > box->hi[k]) return PLACE_OUTSIDE;
+        if (tb->lo[k] < box->lo[k] || tb->hi[k] > box->hi[k]) inside = 0;
     }
-    if (inside) {
-        *out = tb;
-        return 1;
-    }
-    double lo[3], hi[3], tlo[3], thi[3];
-    for (int k = 0; k < 3; k++) {
-        lo[k] = box->lo[k];
-        hi[k] = box->hi[k];
-        tlo[k] = tb.lo[k];
-        thi[k] = tb.hi[k];
-    }
-    poly a, b;
-    load_triangle(tri, &a);
-    const poly *p = clip_to_box(&a, &b, tlo, thi, lo, hi);
+    return inside ? PLACE_INSIDE : PLACE_CROSSES;
+}
+
+/* The clipped polygon's bounds, rounded outward to float and clamped to
+ * the box; 0 if the polygon is empty. */
+static int polygon_bounds(const poly *p, const tt_aabb *box, tt_aabb *out)
+{
     if (p->n == 0) return 0;
     double plo[3] = {INFINITY, INFINITY, INFINITY}, phi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int i = 0; i < p->n; i++)
@@ -177,4 +196,76 @@ int kd_clip_triangle(const float *tri, const tt_aabb *box, tt_aabb *out)
         out->hi[k] = h;
     }
     return 1;
+}
+
+int kd_clip_triangle(const float *tri, const tt_aabb *box, tt_aabb *out)
+{
+    tt_aabb tb;
+    triangle_bounds(tri, &tb);
+    const int where = place(&tb, box);
+    if (where != PLACE_CROSSES) {
+        if (where == PLACE_INSIDE) *out = tb;
+        return where == PLACE_INSIDE;
+    }
+    double lo[3], hi[3], tlo[3], thi[3];
+    for (int k = 0; k < 3; k++) {
+        lo[k] = box->lo[k];
+        hi[k] = box->hi[k];
+        tlo[k] = tb.lo[k];
+        thi[k] = tb.hi[k];
+    }
+    poly a, b;
+    load_triangle(tri, &a);
+    return polygon_bounds(clip_to_box(&a, &b, tlo, thi, lo, hi), box, out);
+}
+
+int kd_clip_triangle_split(const float *tri, const tt_aabb *cell, int axis, float pos,
+                           tt_aabb *left, tt_aabb *right)
+{
+    tt_aabb tb, box[2] = {*cell, *cell};
+    tt_aabb *out[2] = {left, right};
+    box[0].hi[axis] = pos;
+    box[1].lo[axis] = pos;
+    triangle_bounds(tri, &tb);
+    int kept = 0, clip = 0;
+    for (int c = 0; c < 2; c++) {
+        const int where = place(&tb, &box[c]);
+        if (where == PLACE_INSIDE) {
+            *out[c] = tb;
+            kept |= 1 << c;
+        }
+        clip |= (where == PLACE_CROSSES) << c;
+    }
+    if (!clip) return kept;
+    /* The children's boxes differ only on the split axis, from which on
+     * each child's clip goes its own way: the clip by the axes before it
+     * is the same for both and made once. */
+    double lo[3], hi[3], tlo[3], thi[3];
+    for (int k = 0; k < 3; k++) {
+        lo[k] = cell->lo[k];
+        hi[k] = cell->hi[k];
+        tlo[k] = tb.lo[k];
+        thi[k] = tb.hi[k];
+    }
+    poly a, b;
+    load_triangle(tri, &a);
+    clip_state shared = {&a, &b, 0};
+    for (int k = 0; k < axis && shared.cur->n; k++) clip_axis(&shared, tlo, thi, k, lo[k], hi[k]);
+    for (int c = 0; c < 2; c++) {
+        if (!(clip >> c & 1)) continue;
+        double blo[3] = {lo[0], lo[1], lo[2]}, bhi[3] = {hi[0], hi[1], hi[2]};
+        if (c == 0) bhi[axis] = pos;
+        else blo[axis] = pos;
+        const poly *p = shared.cur;
+        if (p->n) {
+            /* Each child goes on from a copy of the shared polygon. */
+            poly ca, cb;
+            ca.n = p->n;
+            memcpy(ca.v, p->v, (size_t)p->n * sizeof p->v[0]);
+            clip_state own = {&ca, &cb, shared.cut};
+            p = clip_from(&own, tlo, thi, blo, bhi, axis);
+            kept |= polygon_bounds(p, &box[c], out[c]) << c;
+        }
+    }
+    return kept;
 }

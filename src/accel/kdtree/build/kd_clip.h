@@ -13,6 +13,14 @@
  * lies inside the box gets its exact vertex bounds. */
 int kd_clip_triangle(const float *tri, const tt_aabb *box, tt_aabb *out);
 
+/* kd_clip_triangle of the triangle to both children of cell split at pos
+ * on axis (left: hi[axis] = pos, right: lo[axis] = pos), with the same
+ * results bit for bit, the clipping by the planes they share made once.
+ * Returns bit 0 set if something is inside the left child (its bounds in
+ * *left), bit 1 for the right. */
+int kd_clip_triangle_split(const float *tri, const tt_aabb *cell, int axis, float pos,
+                           tt_aabb *left, tt_aabb *right);
+
 /* The part of triangle tri inside the closed box [lo, hi], as a convex
  * polygon in double (at most KD_CLIP_MAX vertices; vertices created on a
  * face get that face's coordinate exactly). Returns the vertex count, 0 if
