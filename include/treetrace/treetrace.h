@@ -433,7 +433,9 @@ typedef struct tt_batch_options {
      * else a run of up to 256 rays) as a packet when its rays are coherent
      * (directions within a cone of about 30 degrees, or ends together
      * within half the shortest ray's length, as shadow rays to a light) and
-     * ray by ray otherwise;
+     * ray by ray otherwise, unless the structure, from the counts of a
+     * few probed items, says its packets lose on this batch's rays (the
+     * R-tree's shadow rays of a scene scattered by edits): then ray by ray;
      * TT_PACKETS_OFF always ray by ray; TT_PACKETS_ON packets whenever the
      * structure has them. Results do not depend on it. */
     uint32_t packets;

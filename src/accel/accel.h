@@ -130,6 +130,16 @@ typedef struct tt_accel_vtable {
      * by ray, with their start and caster hints (a kd-tree traversal that
      * uses hints and has no packet kernel). */
     int (*packets_for)(const tt_accel *accel);
+    /* Optional (NULL: yes): whether packets pay against single rays for a
+     * batch whose items pass the coherence rule (tt_packet_coherent), judged
+     * from a probe: the counting variant's counts of one item's packets
+     * (any: occlusion). The rule sees only the rays' geometry; how many of a
+     * packet's rays share its nodes depends on the structure too (shadow
+     * rays converging on a light from hits scattered over an edited scene
+     * share few), which only the walk's counts show. The batch calls
+     * (batch.c) probe a thread's first coherent item and then at growing
+     * gaps, and take rows for the items between while the answer is 0. */
+    int (*packets_pay)(const tt_accel *accel, int any, const tt_packet_stats *probe);
     /* Optional (NULL: TT_INVALID_ID): start hint for rays from point p. */
     uint32_t (*locate)(const tt_accel *accel, const float *p);
     /* Verifies the invariants; on failure reports through tt_error on

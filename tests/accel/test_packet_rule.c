@@ -4,11 +4,14 @@
  * through the batch calls, a view's shadow rays to its point light take
  * the packet path in every item (the packet counts equal those of
  * TT_PACKETS_ON), ambient-occlusion rays take none, and either way the
- * answers are the single rays' (TT_PACKETS_OFF). */
+ * answers are the single rays' (TT_PACKETS_OFF). The structure's word
+ * (vt->packets_pay): the R-tree's rule on probe counts, and the batch
+ * following a structure that says packets never or always pay. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "accel/accel.h"
 #include "accel/packets.h"
 #include "check.h"
 
@@ -279,6 +282,91 @@ static void batch_modes(const tt_accel *a, const tt_ray *rays, size_t n, int coh
     for (int m = 0; m < 3; m++) free(occ[m]);
 }
 
+/* The R-tree's word on an occlusion probe (vt->packets_pay): packets pay
+ * while a node visit finds at least 3/8 of a packet's rays; closest hits
+ * and probes without packets are left to the coherence rule. */
+static void rtree_pay_rule(void)
+{
+    int (*pay)(const tt_accel *, int, const tt_packet_stats *) = tt_rtree_vtable.packets_pay;
+    CHECK(pay != NULL);
+    if (!pay) return;
+    tt_packet_stats ps;
+    memset(&ps, 0, sizeof ps);
+    ps.rays.rays = 4 * 32 + 3, ps.fallback_rays = 3, ps.packets = 4; /* 32 rays a packet */
+    ps.node_visits = 100, ps.active_lanes = 100 * 14;              /* 14 of 32: yes */
+    CHECK(pay(NULL, 1, &ps) == 1);
+    ps.active_lanes = 100 * 10; /* 10 of 32: no */
+    CHECK(pay(NULL, 1, &ps) == 0);
+    CHECK(pay(NULL, 0, &ps) == 1); /* closest hits: not judged */
+    ps.packets = 0, ps.node_visits = 0, ps.active_lanes = 0;
+    CHECK(pay(NULL, 1, &ps) == 1); /* nothing went as a packet */
+}
+
+/* The batch follows the structure's word (run_batch's probes): a
+ * structure that says packets never pay gets under auto only the probes'
+ * packets (a few a thread), one that says they always do gets on's; the
+ * answers are the single rays' either way, counted or not. */
+static int pay_never(const tt_accel *a, int any, const tt_packet_stats *p)
+{
+    (void)a, (void)any, (void)p;
+    return 0;
+}
+static int pay_always(const tt_accel *a, int any, const tt_packet_stats *p)
+{
+    (void)a, (void)any, (void)p;
+    return 1;
+}
+static void batch_follows_word(tt_accel *a, const tt_ray *rays, size_t n, const char *view)
+{
+    const tt_accel_vtable *own = a->vt;
+    tt_accel_vtable never = *own, always = *own;
+    never.packets_pay = pay_never;
+    always.packets_pay = pay_always;
+    uint8_t *ref = malloc(n), *got = malloc(n);
+    if (!ref || !got) exit(1);
+    tt_batch_options bo;
+    tt_batch_options_default(&bo);
+    bo.packets = TT_PACKETS_OFF;
+    CHECK(tt_occluded(a, rays, n, ref, NULL, &bo) == TT_OK);
+    tt_packet_counts on;
+    memset(&on, 0, sizeof on);
+    bo.packets = TT_PACKETS_ON;
+    bo.chunk = 256;
+    bo.packet_stats = &on;
+    CHECK(tt_occluded(a, rays, n, got, NULL, &bo) == TT_OK);
+    const size_t items = (n + 255) / 256;
+    for (int w = 0; w < 2; w++) {
+        a->vt = w ? &always : &never;
+        tt_packet_counts pc;
+        memset(&pc, 0, sizeof pc);
+        tt_batch_options_default(&bo);
+        bo.chunk = 256;
+        bo.packet_stats = &pc;
+        CHECK(tt_occluded(a, rays, n, got, NULL, &bo) == TT_OK);
+        CHECK_MSG(memcmp(got, ref, n) == 0, "%s pay %d: counted answers differ from single rays",
+                  view, w);
+        if (w)
+            CHECK_MSG(pc.packets == on.packets && pc.node_visits == on.node_visits,
+                      "%s: auto with packets paying traced %llu packets, on %llu", view,
+                      (unsigned long long)pc.packets, (unsigned long long)on.packets);
+        else
+            CHECK_MSG(pc.packets > 0 && pc.packets * 2 < on.packets,
+                      "%s: auto with packets never paying traced %llu packets (on %llu, %zu "
+                      "items)",
+                      view, (unsigned long long)pc.packets, (unsigned long long)on.packets,
+                      items);
+        bo.packet_stats = NULL;
+        bo.chunk = 0;
+        memset(got, 0xff, n);
+        CHECK(tt_occluded(a, rays, n, got, NULL, &bo) == TT_OK);
+        CHECK_MSG(memcmp(got, ref, n) == 0, "%s pay %d: answers differ from single rays", view,
+                  w);
+    }
+    a->vt = own;
+    free(ref);
+    free(got);
+}
+
 static void scene_view(tt_context *ctx, const char *file, const char *view)
 {
     tt_scene *scene = tt_test_load_scene(ctx, file);
@@ -298,6 +386,7 @@ static void scene_view(tt_context *ctx, const char *file, const char *view)
         batch_modes(a, shadow, ns, 1, what);
         snprintf(what, sizeof what, "%s %s ambient occlusion", view, accels[s]);
         batch_modes(a, ao, na, 0, what);
+        batch_follows_word(a, shadow, ns, view);
         if (a != ref) tt_accel_destroy(a);
     }
     free(shadow);
@@ -311,6 +400,7 @@ int main(void)
     tt_context *ctx = tt_test_context();
     rule_on_rows();
     rule_matches_reference();
+    rtree_pay_rule();
     scene_view(ctx, "cornell_box.obj", "cornell:main");
     scene_view(ctx, "bun_zipper_res4.ply", "bunny_res4:main");
     scene_view(ctx, "sibenik.obj", "sibenik:main");
