@@ -81,16 +81,6 @@
 #define PK_OCC_CHUNK 32u
 #endif
 #define PK_CHUNK (any ? PK_OCC_CHUNK : PK_N)
-/* shadow packets cull with the cone of their segments (rtc_packet_cone.h) */
-#ifndef PK_CONE
-#define PK_CONE 1
-#endif
-#ifndef PK_CONE_MIN
-#define PK_CONE_MIN 3u
-#endif
-#ifdef PK_CONE_COUNT
-extern uint64_t pk_cone_count[4];
-#endif
 
 /* One packet of rays of one octant, structure of arrays, PK_G groups of
  * PK_L lanes; lanes past n repeat ray 0 and are never active. */
@@ -121,7 +111,6 @@ typedef struct pk_rays {
      * the relative margins alone culled that box where the single ray
      * kept it (test_packets' shadow rays ending on occluders, Sibenik). */
     _Alignas(64) float pad[PK_N];
-    _Alignas(64) float d[3][PK_N]; /* directions (rtc_pk_cone)          */
     _Alignas(64) float u[PK_N];
     _Alignas(64) float v[PK_N];
     _Alignas(64) float sx[PK_N];
@@ -140,10 +129,6 @@ typedef struct pk_rays {
     float omin[3], omax[3], rmin[3], rmax[3], tmin_min;
     float tcut_max; /* no ray's test keeps a box entered beyond it */
     float pad_max;  /* the largest pad: the interval test's far margin */
-    /* occlusion with widened rows: the cone's planes cn[p] x <= ch[p]
-     * around every segment, when cone (rtc_packet_cone.h) */
-    float cn[4][3], ch[4];
-    int cone;
     /* lane l's ray for the single-ray triangle tests, built on first use
      * (pk_wray): only the fallbacks want it (a group's few lanes or mixed
      * shears at a leaf, zero edge functions) */
@@ -279,42 +264,6 @@ TT_RT_INLINE void pk_widen(pk_rays *P)
         PK_STORE(P->fz + o, PK_MUL(PK_LOAD(P->rz + o), w));
         PK_STORE(P->tcf + o, PK_MUL(PK_LOAD(P->tcut + o), w));
     }
-}
-
-#include "accel/rtree/trace/rtc_packet_cone.h"
-
-/* The cone's test of all S children of a node record: bit i clear where
- * child i lies wholly outside one of its planes. */
-typedef struct pk_ccone {
-    pk_v n[4][3], h[4];
-    uint32_t row[4][3];
-} pk_ccone;
-
-TT_RT_INLINE void pk_cone_consts(const pk_rays *P, uint32_t S, pk_ccone *C)
-{
-    for (int p = 0; p < 4; p++) {
-        for (int k = 0; k < 3; k++) {
-            C->n[p][k] = PK_SET1(P->cn[p][k]);
-            C->row[p][k] = (P->cn[p][k] >= 0.0f ? (uint32_t)k : (uint32_t)k + 3u) * S;
-        }
-        C->h[p] = PK_SET1(P->ch[p]);
-    }
-}
-
-TT_RT_INLINE uint32_t pk_cone_keep(const pk_ccone *C, const float *rec, uint32_t S)
-{
-    uint32_t keep = 0;
-    for (uint32_t i = 0; i < S; i += PK_L) {
-        pk_m in = PK_CMP_EQ(PK_SET1(0.0f), PK_SET1(0.0f));
-        for (int p = 0; p < 4; p++) {
-            const pk_v v = PK_ADD(PK_ADD(PK_MUL(C->n[p][0], PK_LOADU(rec + C->row[p][0] + i)),
-                                         PK_MUL(C->n[p][1], PK_LOADU(rec + C->row[p][1] + i))),
-                                  PK_MUL(C->n[p][2], PK_LOADU(rec + C->row[p][2] + i)));
-            in = PK_MAND(in, PK_CMP_LE(v, C->h[p]));
-        }
-        keep |= PK_BITS(in) << i;
-    }
-    return keep;
 }
 
 #endif
@@ -721,10 +670,6 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
     TT_VARIANT(RTC_FN(pk_consts)) A;
     TT_VARIANT(RTC_FN(rtc_pk_consts))(P, S, &A);
     const pk_v c1 = PK_SET1(1.0f / 4194304.0f);
-    const int cone = wide && P->cone;
-    pk_ccone C;
-    memset(&C, 0, sizeof C); /* read only when cone (gcc cannot see it) */
-    if (cone) pk_cone_consts(P, S, &C);
     (void)stats;
     for (;;) {
         /* rays answered since this entry was pushed drop out */
@@ -747,16 +692,6 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
             float tpk[TT_RT_MAX_M];
             uint32_t cand =
                 tt_rtc_used(t, rec) & TT_VARIANT(RTC_FN(rtc_pk_interval))(&A, rec, S, tpk);
-#ifdef PK_CONE_COUNT
-            pk_cone_count[0] += pk_popcount(cand);
-#endif
-            /* (with one or two candidates the cone's test costs more than
-             * the per-ray tests it could save) */
-            if (cone && pk_popcount(cand) >= PK_CONE_MIN) cand &= pk_cone_keep(&C, tt_rtc_boxes(rec), S);
-#ifdef PK_CONE_COUNT
-            pk_cone_count[1] += pk_popcount(cand);
-            pk_cone_count[3]++;
-#endif
             /* the hit children near to far by interval entry, their rays */
             uint32_t nh = 0, hc[TT_RT_MAX_M], hm[TT_RT_MAX_M];
             float ht[TT_RT_MAX_M];
@@ -795,9 +730,6 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
                 hc[j] = c;
                 hm[j] = h;
             }
-#ifdef PK_CONE_COUNT
-            pk_cone_count[2] += nh;
-#endif
             if (!nh) goto pop;
             if (level == 1) {
                 /* each block of this node's hit leaves once, for all their
@@ -882,7 +814,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_packet_ra
         P->nrow[k] = neg ? k + 3 : k;
         P->frow[k] = neg ? k : k + 3;
     }
-    float(*const d)[PK_N] = P->d;
+    _Alignas(64) float d[3][PK_N];
     if (idx[n - 1] - i0 == n - 1) {
         /* consecutive rows (a tile of one octant, a run of shadow rays):
          * straight copies */
@@ -1020,11 +952,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_trace))(const tt_rtc *t, const tt_pac
     if (any && P->ia && t->S % PK_L == 0 && c <= 32u) {
         /* shadow rays (tmin >= 0): the test with widened rows */
         const int wide = P->tmin_min >= 0.0f;
-        if (wide) {
-            pk_widen(P);
-            if (PK_CONE) pk_cone(P, t);
-            else P->cone = 0;
-        }
+        if (wide) pk_widen(P);
         switch (t->S) {
         case 16:
             if (wide) TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(t, 16, 1, P, stats);

@@ -73,9 +73,6 @@ static inline float pk_hmax_avx2(__m256 x)
 #define RTC_SINGLE tt_rtc_stack_avx2
 #define RTC_SINGLE_STATS tt_rtc_stack_avx2_stats
 
-#ifdef PK_CONE_COUNT
-uint64_t pk_cone_count[4];
-#endif
 #define TT_STATS 0
 #include "accel/stats_variant.h"
 #include "accel/rtree/trace/rtc_packet.h"
