@@ -689,6 +689,10 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
                 TT_COUNT(stats, rays.boxes, act * tt_rtc_count(t, rec));
             }
 #endif
+            /* the groups with active rays, found once a node (the child
+             * loop below scanned all PK_OG groups of every candidate) */
+            uint32_t gm = 0;
+            for (uint32_t g = 0; g < PK_OG; g++) gm |= (uint32_t)((m >> (g * PK_L) & PK_LANES) != 0) << g;
             float tpk[TT_RT_MAX_M];
             uint32_t cand =
                 tt_rtc_used(t, rec) & TT_VARIANT(RTC_FN(rtc_pk_interval))(&A, rec, S, tpk);
@@ -700,10 +704,9 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
                 cand &= cand - 1;
                 const pk_cbox cb = pk_child_box(box, A.nr, A.fr, c);
                 uint32_t h = 0;
-                for (uint32_t g = 0; g < PK_OG; g++) {
-                    const uint32_t mg = m >> (g * PK_L) & PK_LANES;
-                    if (!mg) continue;
-                    const uint32_t o = g * PK_L;
+                for (uint32_t gb = gm; gb; gb &= gb - 1) {
+                    const uint32_t o = (uint32_t)__builtin_ctz(gb) * PK_L;
+                    const uint32_t mg = m >> o & PK_LANES;
                     if (wide) {
                         /* inactive lanes go with h &= m below */
                         h |= pk_child_occ_wide(&cb, P, o) << o;
