@@ -123,6 +123,7 @@ typedef struct pk_rays {
     uint32_t done[PK_G];  /* occlusion: rays answered                      */
     uint32_t valid[PK_G]; /* lanes holding rays                            */
     int8_t perm[PK_G];    /* the group's shared kx*9+ky*3+kz, or -1         */
+    uint8_t kxyz[PK_G][3]; /* perm's kx, ky, kz (decoded once a packet)    */
     uint32_t n, groups;
     uint32_t nrow[3], frow[3]; /* the octant's near / far bound rows (0..5) */
     int ia;                    /* interval test usable (finite reciprocals) */
@@ -300,7 +301,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_block))(pk_rays *P, const int any, ui
         }
         return;
     }
-    const int kx = P->perm[g] / 9, ky = P->perm[g] / 3 % 3, kz = P->perm[g] % 3;
+    const int kx = P->kxyz[g][0], ky = P->kxyz[g][1], kz = P->kxyz[g][2];
     const float *const orow[3] = {P->ox + base, P->oy + base, P->oz + base};
     const pk_v ox = PK_LOAD(orow[kx]), oy = PK_LOAD(orow[ky]), oz = PK_LOAD(orow[kz]);
     const pk_v sx = PK_LOAD(P->sx + base), sy = PK_LOAD(P->sy + base), sz = PK_LOAD(P->sz + base);
@@ -689,6 +690,10 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
                 TT_COUNT(stats, rays.boxes, act * tt_rtc_count(t, rec));
             }
 #endif
+            /* the groups with active rays, found once a node (the child
+             * loop below scanned all PK_OG groups of every candidate) */
+            uint32_t gm = 0;
+            for (uint32_t g = 0; g < PK_OG; g++) gm |= (uint32_t)((m >> (g * PK_L) & PK_LANES) != 0) << g;
             float tpk[TT_RT_MAX_M];
             uint32_t cand =
                 tt_rtc_used(t, rec) & TT_VARIANT(RTC_FN(rtc_pk_interval))(&A, rec, S, tpk);
@@ -700,10 +705,9 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
                 cand &= cand - 1;
                 const pk_cbox cb = pk_child_box(box, A.nr, A.fr, c);
                 uint32_t h = 0;
-                for (uint32_t g = 0; g < PK_OG; g++) {
-                    const uint32_t mg = m >> (g * PK_L) & PK_LANES;
-                    if (!mg) continue;
-                    const uint32_t o = g * PK_L;
+                for (uint32_t gb = gm; gb; gb &= gb - 1) {
+                    const uint32_t o = (uint32_t)__builtin_ctz(gb) * PK_L;
+                    const uint32_t mg = m >> o & PK_LANES;
                     if (wide) {
                         /* inactive lanes go with h &= m below */
                         h |= pk_child_occ_wide(&cb, P, o) << o;
@@ -922,6 +926,9 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_packet_ra
             const int kz = b0 ? 0 : b1 ? 1 : 2;
             const int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
             P->perm[g] = (int8_t)(bn ? ky * 9 + kx * 3 + kz : kx * 9 + ky * 3 + kz);
+            P->kxyz[g][0] = (uint8_t)(bn ? ky : kx);
+            P->kxyz[g][1] = (uint8_t)(bn ? kx : ky);
+            P->kxyz[g][2] = (uint8_t)kz;
         }
     }
     for (uint32_t k = 0; k < 3; k++) {
