@@ -57,6 +57,7 @@
 #include "accel/kdtree/trace/kd_ray.h"
 #include "accel/kdtree/trace/kd_best.h"
 #include "geometry/triangle.h"
+#include "geometry/tri_block.h"
 
 #ifndef KD_PACKET_TYPES
 #define KD_PACKET_TYPES
@@ -82,6 +83,11 @@ _Static_assert(KP_K * PK_L <= 32, "a walk's lanes fit one 32-bit word (kp_walk)"
 #ifndef KP_MIN_RAYS
 #define KP_MIN_RAYS 4u
 #endif
+/* A lane's test of one leaf block (eight triangles), in tenths of a packet
+ * test of one triangle (kp_leaf's choice of the occlusion leaf test). */
+#ifndef KP_BLOCK_TEST
+#define KP_BLOCK_TEST 18u
+#endif
 /* The 24 groups: octant * 3 + kz. */
 #define KP_GROUPS 24u
 /* a vector's lane bits all clear or all set */
@@ -106,6 +112,10 @@ typedef struct kp_rays {
     _Alignas(64) uint32_t prim[KP_N];
     uint16_t src[KP_N]; /* the lane's row in R                             */
     const tt_packet_rays *R;
+    /* the leaf blocks of the single-ray kernels (kd_blocks.h), indexed by
+     * bnodes[leaf].u.first; NULL where the tree has none */
+    const tt_kd_node *bnodes;
+    const tt_tri_block *blocks;
     uint32_t live[KP_V]; /* lanes whose ray meets the scene box           */
     uint32_t done[KP_V]; /* occlusion: lanes answered                     */
     uint32_t n, vecs;
@@ -396,12 +406,38 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_pairs))(const tt_kd_view *T, kp_rays *P, uint
 }
 #endif
 
+/* Occlusion of one lane against a leaf's blocks, eight triangles a test
+ * (kd_leaf_block.h's kd_block8, the single-ray kernels' own leaf test):
+ * returns 1 when a triangle hits the lane on [tmin, tmax). The lane's
+ * tt_wray holds only what the triangle test reads (origin, axes, shear,
+ * tmin), each the value tt_wray_init gives the ray (kp_load), so every
+ * lane answers as the single ray's leaf test does. */
+KP_INLINE int TT_VARIANT(KD_FN(kp_lane_blocks))(const tt_kd_view *T, const kp_rays *P,
+                                                 const tt_tri_block *b, uint32_t nb, uint32_t l)
+{
+    tt_wray w;
+    for (int k = 0; k < 3; k++) w.org[k] = P->o[k][l];
+    w.kx = P->kx;
+    w.ky = P->ky;
+    w.kz = P->kz;
+    w.sx = P->sx[l];
+    w.sy = P->sy[l];
+    w.sz = P->sz[l];
+    w.tmin = P->tmin[l];
+    const float tmax = P->t[l];
+    for (const tt_tri_block *end = b + nb; b != end; b++) {
+        float t[8], u[8], v[8];
+        if (kd_block8(T, b, &w, tmax, t, u, v)) return 1;
+    }
+    return 0;
+}
+
 /* A leaf's triangles against lanes m[] of the walk at vector v0. When the
  * walk's active lanes fit one vector, they are packed into one (PK_PERM2)
  * and the leaf is tested once instead of once per vector. */
 KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint32_t v0,
-                                             const uint32_t m, tt_kd_node leaf, const int any,
-                                             tt_packet_stats *stats)
+                                             const uint32_t m, uint32_t node, tt_kd_node leaf,
+                                             const int any, tt_packet_stats *stats)
 {
     const uint32_t count = tt_kd_leaf_count(leaf.bits);
     const uint32_t *refs = T->refs + leaf.u.first;
@@ -425,6 +461,32 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint3
         if (any) mm[j] &= ~P->done[v0 + j];
         tot += kp_popcount(mm[j]);
         nz += mm[j] != 0;
+    }
+    /* Occlusion with few lanes left in a leaf (the deep leaves near a
+     * shadow walk's origins): each lane alone against the leaf's blocks,
+     * eight triangles a test, when that takes fewer tests than the lanes
+     * together (kp_pairs: two triangles a test; kp_tris: one). */
+    if (any && P->blocks) {
+        const uint32_t nb = tt_tri_block_count(count);
+        /* tests in tenths of a packet test (callgrind, Cornell and Sibenik
+         * shadows: a lane's block test about 1.8 of them, a pair test 1.5) */
+#if defined(PK_PAIR)
+        const uint32_t together = KP_K == 2 && tot <= PK_L / 2
+                                      ? 15u * ((count + 1) / 2) + 3u
+                                      : 10u * count * (tot <= PK_L ? 1u : nz);
+#else
+        const uint32_t together = 10u * count * (tot <= PK_L ? 1u : nz);
+#endif
+        if (tot * (KP_BLOCK_TEST * nb + 3u) < together) {
+            const tt_tri_block *b = P->blocks + P->bnodes[node].u.first;
+            for (uint32_t j = 0; j < KP_K; j++)
+                for (uint32_t bits = mm[j]; bits; bits &= bits - 1u) {
+                    const uint32_t l = (uint32_t)__builtin_ctz(bits);
+                    if (TT_VARIANT(KD_FN(kp_lane_blocks))(T, P, b, nb, (v0 + j) * PK_L + l))
+                        P->done[v0 + j] |= 1u << l;
+                }
+            return;
+        }
     }
 #if defined(PK_PAIR)
     /* Occlusion with at most half a vector of lanes left (deep leaves of a
@@ -578,7 +640,7 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_walk))(const tt_kd_view *T, kp_rays *P, uint3
             }
             n = T->nodes[node];
         }
-        TT_VARIANT(KD_FN(kp_leaf))(T, P, v0, m, n, any, stats);
+        TT_VARIANT(KD_FN(kp_leaf))(T, P, v0, m, node, n, any, stats);
     pop:
         for (;;) {
             if (!sp) return;
@@ -742,8 +804,9 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_single))(const tt_kd_view *T, const tt_wray *
  * dominant axis, each group traced in walks of KP_RAYS rays (small groups
  * ray by ray); closest hits into hits (any = 0) or occlusion bytes into
  * occ (any = 1). */
-void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_packet_rays *R, int any,
-                                     tt_hit *hits, uint8_t *occ, tt_packet_stats *stats)
+void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_kd_view *B,
+                                     const tt_packet_rays *R, int any, tt_hit *hits, uint8_t *occ,
+                                     tt_packet_stats *stats)
 {
     const uint32_t n = R->n;
     uint16_t idx[KP_GROUPS][KP_N];
@@ -794,6 +857,8 @@ void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_packet_rays *
         }
     }
     _Alignas(64) kp_rays P;
+    P.blocks = B && B->blocks ? B->blocks : NULL;
+    P.bnodes = P.blocks ? B->nodes : NULL;
     for (uint32_t g = 0; g < KP_GROUPS; g++) {
         const uint32_t c = cnt[g];
         if (!c) continue;
