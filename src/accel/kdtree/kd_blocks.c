@@ -55,9 +55,12 @@ tt_status tt_kdtree_blocks_build(tt_context *ctx, tt_kdtree *t, const float *tri
     void *mem = count < SIZE_MAX / sizeof(tt_tri_block)
                     ? tt_alloc(ctx, (size_t)count * sizeof(tt_tri_block) + 63)
                     : NULL;
-    if (!nodes || !mem) {
+    /* the leaves to pack, listed first so that threads can pack them */
+    uint32_t *leaf = tt_alloc_array(ctx, t->leaves ? t->leaves : 1, sizeof *leaf);
+    if (!nodes || !mem || !leaf) {
         tt_free(ctx, nodes);
         tt_free(ctx, mem);
+        tt_free(ctx, leaf);
         return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "kdtree: out of memory for leaf blocks");
     }
     /* The kernels load blocks with aligned loads. */
@@ -66,16 +69,16 @@ tt_status tt_kdtree_blocks_build(tt_context *ctx, tt_kdtree *t, const float *tri
     /* The blocks' places first (a prefix count), then the packing, which
      * ran alone on one thread at the end of every build: leaves are
      * packed on the context's threads, each into its own place, so the
-     * blocks are the same. A leaf list that cannot be had packs serially. */
+     * blocks are the same. (A leaf past t->leaves, were the count ever
+     * short, is packed here.) */
     uint32_t next = 0, packs = 0;
-    uint32_t *leaf = tt_alloc_array(ctx, t->leaves ? t->leaves : 1, sizeof *leaf);
     KD_FOR_NODES(t, i, {
         const tt_kd_node n = t->nodes[i];
         if (!tt_kd_is_leaf(n.bits)) continue;
         const uint32_t c = tt_kd_leaf_count(n.bits);
         nodes[i].u.first = c ? next : 0u;
         if (c == 0) continue; /* (an empty scene has no refs[] at all) */
-        if (leaf && packs < t->leaves) leaf[packs++] = i;
+        if (packs < t->leaves) leaf[packs++] = i;
         else tt_tri_block_pack(tri, t->refs + n.u.first, c, blocks + next);
         next += tt_tri_block_count(c);
     })

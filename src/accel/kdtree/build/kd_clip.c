@@ -198,6 +198,19 @@ static int polygon_bounds(const poly *p, const tt_aabb *box, tt_aabb *out)
     return 1;
 }
 
+/* The clip works in doubles: the cell's box (lo, hi) and the triangle's
+ * bounds (tlo, thi), which clip_axis reads while the polygon is uncut. */
+static void boxes_in_double(const tt_aabb *box, const tt_aabb *tb, double lo[3], double hi[3],
+                            double tlo[3], double thi[3])
+{
+    for (int k = 0; k < 3; k++) {
+        lo[k] = box->lo[k];
+        hi[k] = box->hi[k];
+        tlo[k] = tb->lo[k];
+        thi[k] = tb->hi[k];
+    }
+}
+
 int kd_clip_triangle(const float *tri, const tt_aabb *box, tt_aabb *out)
 {
     tt_aabb tb;
@@ -208,12 +221,7 @@ int kd_clip_triangle(const float *tri, const tt_aabb *box, tt_aabb *out)
         return where == PLACE_INSIDE;
     }
     double lo[3], hi[3], tlo[3], thi[3];
-    for (int k = 0; k < 3; k++) {
-        lo[k] = box->lo[k];
-        hi[k] = box->hi[k];
-        tlo[k] = tb.lo[k];
-        thi[k] = tb.hi[k];
-    }
+    boxes_in_double(box, &tb, lo, hi, tlo, thi);
     poly a, b;
     load_triangle(tri, &a);
     return polygon_bounds(clip_to_box(&a, &b, tlo, thi, lo, hi), box, out);
@@ -241,12 +249,7 @@ int kd_clip_triangle_split(const float *tri, const tt_aabb *cell, int axis, floa
      * each child's clip goes its own way: the clip by the axes before it
      * is the same for both and made once. */
     double lo[3], hi[3], tlo[3], thi[3];
-    for (int k = 0; k < 3; k++) {
-        lo[k] = cell->lo[k];
-        hi[k] = cell->hi[k];
-        tlo[k] = tb.lo[k];
-        thi[k] = tb.hi[k];
-    }
+    boxes_in_double(cell, &tb, lo, hi, tlo, thi);
     poly a, b;
     load_triangle(tri, &a);
     clip_state shared = {&a, &b, 0};
