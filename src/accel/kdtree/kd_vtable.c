@@ -97,7 +97,7 @@ static void kd_packet(const tt_accel *a, const tt_packet_rays *rays, int any, tt
             ? tt_kd_packet_kernel(a->isa, stats != NULL)
             : NULL;
     if (fn) {
-        fn(&tree(a)->view, &tree(a)->fast_view, rays, any, hits, occ, stats);
+        fn(&tree(a)->view, rays, any, hits, occ, stats);
         return;
     }
     for (uint32_t i = 0; i < rays->n; i++) {

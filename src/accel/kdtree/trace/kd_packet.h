@@ -57,7 +57,6 @@
 #include "accel/kdtree/trace/kd_ray.h"
 #include "accel/kdtree/trace/kd_best.h"
 #include "geometry/triangle.h"
-#include "geometry/tri_block.h"
 
 #ifndef KD_PACKET_TYPES
 #define KD_PACKET_TYPES
@@ -83,20 +82,6 @@ _Static_assert(KP_K * PK_L <= 32, "a walk's lanes fit one 32-bit word (kp_walk)"
 #ifndef KP_MIN_RAYS
 #define KP_MIN_RAYS 4u
 #endif
-/* A lane's test of one leaf block (eight triangles), in tenths of a packet
- * test of one triangle (kp_leaf's choice of the occlusion leaf test). */
-#ifndef KP_BLOCK_TEST
-#define KP_BLOCK_TEST 18u
-#endif
-/* Occlusion leaves of at most this many triangles are culled (kp_cull8). */
-#ifndef KP_CULL_MAX
-#define KP_CULL_MAX 128u
-#endif
-/* ... and only with more lanes left than this (fewer lanes: the cull costs
- * more than the tests it saves) */
-#ifndef KP_CULL_LANES
-#define KP_CULL_LANES 8u
-#endif
 /* The 24 groups: octant * 3 + kz. */
 #define KP_GROUPS 24u
 /* a vector's lane bits all clear or all set */
@@ -121,17 +106,6 @@ typedef struct kp_rays {
     _Alignas(64) uint32_t prim[KP_N];
     uint16_t src[KP_N]; /* the lane's row in R                             */
     const tt_packet_rays *R;
-    /* the leaf blocks of the single-ray kernels (kd_blocks.h), indexed by
-     * bnodes[leaf].u.first; NULL where the tree has none */
-    const tt_kd_node *bnodes;
-    const tt_tri_block *blocks;
-    /* occlusion: per walk, the boxes of its live lanes' segment ends
-     * (o + tmin d, o + tmax d) as centre and half size, the half sizes
-     * widened by the margin of kp_cull8; cull[w] = 0: none (not finite) */
-    float wbox[KP_V / KP_K][12];
-    uint32_t cull[KP_V / KP_K]; /* 2: not made yet (kp_walk_box) */
-    float scale; /* the scene box's largest |coordinate| */
-    _Alignas(64) float d[3][KP_N]; /* occlusion: the directions */
     uint32_t live[KP_V]; /* lanes whose ray meets the scene box           */
     uint32_t done[KP_V]; /* occlusion: lanes answered                     */
     uint32_t n, vecs;
@@ -422,141 +396,14 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_pairs))(const tt_kd_view *T, kp_rays *P, uint
 }
 #endif
 
-/* Occlusion: the triangles of block b that no segment of the walk can hit
- * (bit i: lane i of the block). A triangle is dropped when both boxes of
- * the walk's segment ends (kp_load) lie on one side of its plane: every
- * segment then does. The watertight test's hit point lies within a few
- * rounding units of the vertices' and the origin's magnitude of the
- * triangle's plane (the kd traversal's bands rest on the same bound:
- * kd_ray.h); the boxes are widened by 2^-15 of the largest coordinate,
- * eight times the kd band's margin, so a dropped triangle is one no lane
- * would hit (its answer is whether some triangle hits it, so dropping
- * triangles it cannot hit changes nothing). The plane test's own float
- * error (thin triangles: the normal's cancellation) is bounded by the
- * err term and is kept out of the decision. NaN lanes (padding, zero-area
- * triangles) are never dropped. */
-#ifndef KP_CULL8_DEFINED
-#define KP_CULL8_DEFINED
-static inline uint32_t kp_cull8(const tt_tri_block *b, const float *box)
-{
-    const __m256 sign = _mm256_set1_ps(-0.0f);
-#define KC_ABS(x) _mm256_andnot_ps(sign, x)
-    const __m256 ax = _mm256_load_ps(b->v[0]), ay = _mm256_load_ps(b->v[1]),
-                 az = _mm256_load_ps(b->v[2]);
-    const __m256 e1x = _mm256_sub_ps(_mm256_load_ps(b->v[3]), ax),
-                 e1y = _mm256_sub_ps(_mm256_load_ps(b->v[4]), ay),
-                 e1z = _mm256_sub_ps(_mm256_load_ps(b->v[5]), az);
-    const __m256 e2x = _mm256_sub_ps(_mm256_load_ps(b->v[6]), ax),
-                 e2y = _mm256_sub_ps(_mm256_load_ps(b->v[7]), ay),
-                 e2z = _mm256_sub_ps(_mm256_load_ps(b->v[8]), az);
-    const __m256 nx = _mm256_sub_ps(_mm256_mul_ps(e1y, e2z), _mm256_mul_ps(e1z, e2y));
-    const __m256 ny = _mm256_sub_ps(_mm256_mul_ps(e1z, e2x), _mm256_mul_ps(e1x, e2z));
-    const __m256 nz = _mm256_sub_ps(_mm256_mul_ps(e1x, e2y), _mm256_mul_ps(e1y, e2x));
-    const __m256 anx = KC_ABS(nx), any_ = KC_ABS(ny), anz = KC_ABS(nz);
-    const __m256 E = _mm256_mul_ps(
-        _mm256_add_ps(_mm256_add_ps(KC_ABS(e1x), KC_ABS(e1y)), KC_ABS(e1z)),
-        _mm256_add_ps(_mm256_add_ps(KC_ABS(e2x), KC_ABS(e2y)), KC_ABS(e2z)));
-    const __m256 unit = _mm256_set1_ps(1.9073486e-6f); /* 2^-19 */
-    __m256 pos = _mm256_castsi256_ps(_mm256_set1_epi32(-1)), neg = pos;
-    for (int j = 0; j < 2; j++) {
-        const float *c = box + 6 * j, *h = c + 3;
-        const __m256 qx = _mm256_sub_ps(_mm256_set1_ps(c[0]), ax),
-                     qy = _mm256_sub_ps(_mm256_set1_ps(c[1]), ay),
-                     qz = _mm256_sub_ps(_mm256_set1_ps(c[2]), az);
-        const __m256 s = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(nx, qx), _mm256_mul_ps(ny, qy)),
-                                       _mm256_mul_ps(nz, qz));
-        const __m256 r = _mm256_add_ps(
-            _mm256_add_ps(_mm256_mul_ps(anx, _mm256_set1_ps(h[0])),
-                          _mm256_mul_ps(any_, _mm256_set1_ps(h[1]))),
-            _mm256_mul_ps(anz, _mm256_set1_ps(h[2])));
-        const __m256 q1 = _mm256_add_ps(_mm256_add_ps(KC_ABS(qx), KC_ABS(qy)), KC_ABS(qz));
-        const __m256 nq = _mm256_add_ps(
-            _mm256_add_ps(_mm256_mul_ps(anx, KC_ABS(qx)), _mm256_mul_ps(any_, KC_ABS(qy))),
-            _mm256_mul_ps(anz, KC_ABS(qz)));
-        const __m256 err = _mm256_mul_ps(
-            unit, _mm256_add_ps(_mm256_mul_ps(E, _mm256_add_ps(q1, _mm256_set1_ps(h[0] + h[1] + h[2]))),
-                                nq));
-        const __m256 lim = _mm256_add_ps(r, err);
-        pos = _mm256_and_ps(pos, _mm256_cmp_ps(s, lim, _CMP_GT_OQ));
-        neg = _mm256_and_ps(neg, _mm256_cmp_ps(s, _mm256_xor_ps(lim, sign), _CMP_LT_OQ));
-    }
-#undef KC_ABS
-    return (uint32_t)_mm256_movemask_ps(_mm256_or_ps(pos, neg));
-}
-#endif
-
-/* Occlusion: the boxes of the segment ends (o + tmin d, o + tmax d) of the
- * walk at v0's live lanes, as centre and half size, the half sizes widened
- * by kp_cull8's margin; P->cull[walk] = 0 where none can be made (a NaN or
- * infinite end). Made once a walk, at its first leaf that culls. */
-KP_INLINE void TT_VARIANT(KD_FN(kp_walk_box))(kp_rays *P, uint32_t v0)
-{
-    float *box = P->wbox[v0 / KP_K];
-    float big = P->scale;
-    for (int e = 0; e < 2; e++)
-        for (int k = 0; k < 3; k++) {
-            pk_v lo = PK_SET1(TT_INF), hi = PK_SET1(-TT_INF);
-            for (uint32_t j = 0; j < KP_K; j++) {
-                const uint32_t base = (v0 + j) * PK_L;
-                const pk_m hm = PK_MASK(P->live[v0 + j]);
-                const pk_v t = PK_LOAD((e ? P->t : P->tmin) + base);
-                const pk_v p = PK_ADD(PK_LOAD(P->o[k] + base), PK_MUL(t, PK_LOAD(P->d[k] + base)));
-                lo = PK_MIN(lo, PK_BLEND(hm, PK_SET1(TT_INF), p));
-                hi = PK_MAX(hi, PK_BLEND(hm, PK_SET1(-TT_INF), p));
-            }
-            _Alignas(64) float l[PK_L], h[PK_L];
-            PK_STORE(l, lo);
-            PK_STORE(h, hi);
-            float a = TT_INF, b = -TT_INF;
-            for (uint32_t q = 0; q < PK_L; q++) {
-                a = tt_kd_min(a, l[q]);
-                b = tt_kd_max(b, h[q]);
-            }
-            box[6 * e + k] = 0.5f * a + 0.5f * b;
-            box[6 * e + 3 + k] = 0.5f * b - 0.5f * a;
-            big = tt_kd_max(big, tt_kd_max(fabsf(a), fabsf(b)));
-        }
-    /* the margin: 2^-15 of the largest coordinate (kp_cull8) */
-    const float margin = big * 3.0517578e-5f;
-    for (int e = 0; e < 2; e++)
-        for (int k = 0; k < 3; k++) box[6 * e + 3 + k] += margin;
-    P->cull[v0 / KP_K] = big < 1e30f; /* (false for NaN) */
-}
-
-/* Occlusion of one lane against a leaf's blocks, eight triangles a test
- * (kd_leaf_block.h's kd_block8, the single-ray kernels' own leaf test):
- * returns 1 when a triangle hits the lane on [tmin, tmax). The lane's
- * tt_wray holds only what the triangle test reads (origin, axes, shear,
- * tmin), each the value tt_wray_init gives the ray (kp_load), so every
- * lane answers as the single ray's leaf test does. */
-KP_INLINE int TT_VARIANT(KD_FN(kp_lane_blocks))(const tt_kd_view *T, const kp_rays *P,
-                                                 const tt_tri_block *b, uint32_t nb, uint32_t l)
-{
-    tt_wray w;
-    for (int k = 0; k < 3; k++) w.org[k] = P->o[k][l];
-    w.kx = P->kx;
-    w.ky = P->ky;
-    w.kz = P->kz;
-    w.sx = P->sx[l];
-    w.sy = P->sy[l];
-    w.sz = P->sz[l];
-    w.tmin = P->tmin[l];
-    const float tmax = P->t[l];
-    for (const tt_tri_block *end = b + nb; b != end; b++) {
-        float t[8], u[8], v[8];
-        if (kd_block8(T, b, &w, tmax, t, u, v)) return 1;
-    }
-    return 0;
-}
-
 /* A leaf's triangles against lanes m[] of the walk at vector v0. When the
  * walk's active lanes fit one vector, they are packed into one (PK_PERM2)
  * and the leaf is tested once instead of once per vector. */
 KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint32_t v0,
-                                             const uint32_t m, uint32_t node, tt_kd_node leaf,
-                                             const int any, tt_packet_stats *stats)
+                                             const uint32_t m, tt_kd_node leaf, const int any,
+                                             tt_packet_stats *stats)
 {
-    uint32_t count = tt_kd_leaf_count(leaf.bits);
+    const uint32_t count = tt_kd_leaf_count(leaf.bits);
     const uint32_t *refs = T->refs + leaf.u.first;
     (void)stats;
 #if TT_STATS
@@ -578,53 +425,6 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint3
         if (any) mm[j] &= ~P->done[v0 + j];
         tot += kp_popcount(mm[j]);
         nz += mm[j] != 0;
-    }
-    /* Occlusion: the triangles no segment of the walk can hit are dropped
-     * first (kp_cull8, eight at a time from the leaf's blocks) */
-    uint32_t kept[KP_CULL_MAX];
-    int culled = 0;
-    if (any && P->blocks && tot > KP_CULL_LANES && count <= KP_CULL_MAX &&
-        P->cull[v0 / KP_K] == 2u)
-        TT_VARIANT(KD_FN(kp_walk_box))(P, v0);
-    if (any && P->blocks && tot > KP_CULL_LANES && count <= KP_CULL_MAX && P->cull[v0 / KP_K]) {
-        const tt_tri_block *b = P->blocks + P->bnodes[node].u.first;
-        const float *box = P->wbox[v0 / KP_K];
-        uint32_t c = 0;
-        for (uint32_t i = 0; i < count; i += 8, b++) {
-            uint32_t keep = ~kp_cull8(b, box) & 0xFFu;
-            if (count - i < 8) keep &= (1u << (count - i)) - 1u;
-            for (; keep; keep &= keep - 1u) kept[c++] = b->prim[__builtin_ctz(keep)];
-        }
-        if (!c) return;
-        culled = c < count;
-        refs = kept;
-        count = c;
-    }
-    /* Occlusion with few lanes left in a leaf (the deep leaves near a
-     * shadow walk's origins): each lane alone against the leaf's blocks,
-     * eight triangles a test, when that takes fewer tests than the lanes
-     * together (kp_pairs: two triangles a test; kp_tris: one). */
-    if (any && P->blocks && !culled) {
-        const uint32_t nb = tt_tri_block_count(count);
-        /* tests in tenths of a packet test (callgrind, Cornell and Sibenik
-         * shadows: a lane's block test about 1.8 of them, a pair test 1.5) */
-#if defined(PK_PAIR)
-        const uint32_t together = KP_K == 2 && tot <= PK_L / 2
-                                      ? 15u * ((count + 1) / 2) + 3u
-                                      : 10u * count * (tot <= PK_L ? 1u : nz);
-#else
-        const uint32_t together = 10u * count * (tot <= PK_L ? 1u : nz);
-#endif
-        if (tot * (KP_BLOCK_TEST * nb + 3u) < together) {
-            const tt_tri_block *b = P->blocks + P->bnodes[node].u.first;
-            for (uint32_t j = 0; j < KP_K; j++)
-                for (uint32_t bits = mm[j]; bits; bits &= bits - 1u) {
-                    const uint32_t l = (uint32_t)__builtin_ctz(bits);
-                    if (TT_VARIANT(KD_FN(kp_lane_blocks))(T, P, b, nb, (v0 + j) * PK_L + l))
-                        P->done[v0 + j] |= 1u << l;
-                }
-            return;
-        }
     }
 #if defined(PK_PAIR)
     /* Occlusion with at most half a vector of lanes left (deep leaves of a
@@ -778,7 +578,7 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_walk))(const tt_kd_view *T, kp_rays *P, uint3
             }
             n = T->nodes[node];
         }
-        TT_VARIANT(KD_FN(kp_leaf))(T, P, v0, m, node, n, any, stats);
+        TT_VARIANT(KD_FN(kp_leaf))(T, P, v0, m, n, any, stats);
     pop:
         for (;;) {
             if (!sp) return;
@@ -813,7 +613,7 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_walk))(const tt_kd_view *T, kp_rays *P, uint3
  * direction component), so the faces are the same for all its lanes. */
 KP_INLINE void TT_VARIANT(KD_FN(kp_load))(const tt_kd_view *T, kp_rays *P,
                                              const tt_packet_rays *R, const uint16_t *idx,
-                                             uint32_t n, uint32_t group, const int any)
+                                             uint32_t n, uint32_t group)
 {
     const uint32_t i0 = idx[0];
     P->n = n;
@@ -915,13 +715,6 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_load))(const tt_kd_view *T, kp_rays *P,
         PK_STORE(P->v + base, zero);
         PK_STOREI(P->prim + base, PK_SETI(TT_INVALID_ID));
     }
-    if (!any || !P->blocks) return;
-    /* occlusion: the walks' boxes are made when a leaf first asks
-     * (kp_walk_box) */
-    P->scale = tt_kd_max(tt_kd_max(m[0], m[1]), m[2]);
-    for (uint32_t v0 = 0; v0 < P->vecs; v0 += KP_K) P->cull[v0 / KP_K] = 2u;
-    for (uint32_t base = 0; base < lanes; base += PK_L)
-        for (int k = 0; k < 3; k++) PK_STORE(P->d[k] + base, PK_LOAD(d[k] + base));
 }
 
 /* One ray through the single-ray kernel (small groups, rays with a zero
@@ -949,9 +742,8 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_single))(const tt_kd_view *T, const tt_wray *
  * dominant axis, each group traced in walks of KP_RAYS rays (small groups
  * ray by ray); closest hits into hits (any = 0) or occlusion bytes into
  * occ (any = 1). */
-void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_kd_view *B,
-                                     const tt_packet_rays *R, int any, tt_hit *hits, uint8_t *occ,
-                                     tt_packet_stats *stats)
+void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_packet_rays *R, int any,
+                                     tt_hit *hits, uint8_t *occ, tt_packet_stats *stats)
 {
     const uint32_t n = R->n;
     uint16_t idx[KP_GROUPS][KP_N];
@@ -1002,8 +794,6 @@ void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_kd_view *B,
         }
     }
     _Alignas(64) kp_rays P;
-    P.blocks = B && B->blocks ? B->blocks : NULL;
-    P.bnodes = P.blocks ? B->nodes : NULL;
     for (uint32_t g = 0; g < KP_GROUPS; g++) {
         const uint32_t c = cnt[g];
         if (!c) continue;
@@ -1019,7 +809,7 @@ void TT_VARIANT(KD_FN(tt_kd_packet))(const tt_kd_view *T, const tt_kd_view *B,
         }
         TT_COUNT(stats, packets, 1);
         TT_COUNT(stats, rays.boxes, c);
-        TT_VARIANT(KD_FN(kp_load))(T, &P, R, idx[g], c, g, any);
+        TT_VARIANT(KD_FN(kp_load))(T, &P, R, idx[g], c, g);
         /* a walk inlined for each mode: the occlusion tests fold away */
         if (any)
             for (uint32_t v0 = 0; v0 < P.vecs; v0 += KP_K)

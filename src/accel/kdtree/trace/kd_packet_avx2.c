@@ -9,9 +9,6 @@
 #include <math.h>
 
 #include "accel/kdtree/trace/kd_trace_cpu.h"
-#include "accel/kdtree/trace/kd_best.h"
-#include "geometry/triangle.h"
-#include "accel/kdtree/trace/kd_leaf_block.h"
 
 #define KD_FN(name) name##_avx2
 #define PK_L 8

@@ -9,27 +9,18 @@
 
 /* rays->n <= TT_PACKET_MAX rows, traced with HTR as packets: closest hits
  * into hits (any = 0) or occlusion bytes into occ (any = 1), each equal to
- * the single-ray HTR's bit for bit. T is the tree's view (leaves index
- * refs[]); B, if not NULL, the single-ray kernels' view with leaf blocks
- * (kd_blocks.h: the same nodes, leaves indexing blocks[]), which the
- * occlusion leaves with few lanes test. The _stats forms count into
- * *stats. */
-typedef void (*tt_kd_packet_fn)(const tt_kd_view *T, const tt_kd_view *B,
-                       const tt_packet_rays *rays, int any,
+ * the single-ray HTR's bit for bit. The _stats forms count into *stats. */
+typedef void (*tt_kd_packet_fn)(const tt_kd_view *T, const tt_packet_rays *rays, int any,
                                 tt_hit *hits, uint8_t *occ, tt_packet_stats *stats);
 
 #if defined(TT_HAVE_X86_KERNELS)
-void tt_kd_packet_avx2(const tt_kd_view *T, const tt_kd_view *B,
-                       const tt_packet_rays *rays, int any,
+void tt_kd_packet_avx2(const tt_kd_view *T, const tt_packet_rays *rays, int any,
                        tt_hit *hits, uint8_t *occ, tt_packet_stats *stats);
-void tt_kd_packet_avx2_stats(const tt_kd_view *T, const tt_kd_view *B,
-                       const tt_packet_rays *rays, int any,
+void tt_kd_packet_avx2_stats(const tt_kd_view *T, const tt_packet_rays *rays, int any,
                              tt_hit *hits, uint8_t *occ, tt_packet_stats *stats);
-void tt_kd_packet_avx512(const tt_kd_view *T, const tt_kd_view *B,
-                       const tt_packet_rays *rays, int any,
+void tt_kd_packet_avx512(const tt_kd_view *T, const tt_packet_rays *rays, int any,
                          tt_hit *hits, uint8_t *occ, tt_packet_stats *stats);
-void tt_kd_packet_avx512_stats(const tt_kd_view *T, const tt_kd_view *B,
-                       const tt_packet_rays *rays, int any,
+void tt_kd_packet_avx512_stats(const tt_kd_view *T, const tt_packet_rays *rays, int any,
                                tt_hit *hits, uint8_t *occ, tt_packet_stats *stats);
 #endif
 
