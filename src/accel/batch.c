@@ -13,7 +13,6 @@
 #include "accel/packets.h"
 #include "accel/ray_check.h"
 
-#include <omp.h>
 
 #define MAX_CHUNK 256u
 #define TILE 16u
@@ -210,8 +209,7 @@ static int arrays_ok(const tt_ray_arrays *a)
 
 static int threads_of(const tt_accel *accel)
 {
-    int t = tt_context_threads(accel->ctx);
-    return t > 0 ? t : omp_get_max_threads();
+    return tt_context_team(accel->ctx);
 }
 
 /* After the batch: the context's message names the first bad ray, in the

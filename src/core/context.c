@@ -1,5 +1,6 @@
 #include "core/context.h"
 
+#include <omp.h>
 #include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -87,6 +88,12 @@ void tt_context_destroy(tt_context *ctx)
 const char *tt_context_last_error(const tt_context *ctx) { return ctx ? ctx->last_error : ""; }
 
 int tt_context_threads(const tt_context *ctx) { return ctx ? ctx->threads : 0; }
+
+int tt_context_team(const tt_context *ctx)
+{
+    const int t = tt_context_threads(ctx);
+    return t > 0 ? t : omp_get_max_threads();
+}
 
 /* Errors may be reported from several threads at once (a trace refused on
  * each of them: TT_ERR_BUSY / TT_ERR_STALE): the message is formatted

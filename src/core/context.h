@@ -39,6 +39,10 @@ void *tt_realloc(tt_context *ctx, void *ptr, size_t size);
 void *tt_realloc_array(tt_context *ctx, void *ptr, size_t count, size_t size);
 void tt_free(tt_context *ctx, void *ptr);
 
+/* The threads a parallel region of this context runs: the context's
+ * count (tt_context_options.threads), or OpenMP's default where it is 0. */
+int tt_context_team(const tt_context *ctx);
+
 /* Seconds on a monotonic clock. */
 double tt_now(void);
 

@@ -2,7 +2,6 @@
  * timed), optionally once more with the counting traversal variants, and
  * keeps what the caller asked for (hit buffer, image, per-pixel counts). */
 #include <math.h>
-#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -177,7 +176,7 @@ static void init_frame(tt_context *ctx, const tt_scene *scene, const tt_accel *a
     f->height = o->height;
     f->tiles_x = (o->width + TT_TILE - 1) / TT_TILE;
     f->tiles_y = (o->height + TT_TILE - 1) / TT_TILE;
-    f->threads = tt_context_threads(ctx) > 0 ? tt_context_threads(ctx) : omp_get_max_threads();
+    f->threads = tt_context_team(ctx);
     f->eps = 1e-4f * tt_scene_diagonal(scene);
     tt_camera_basis_init(&f->basis, camera, o->width, o->height);
     /* Only a structure that takes caster hints is handed them (the option

@@ -3,7 +3,6 @@
 
 #include "accel/kdtree/kd_lines.h"
 
-#include <omp.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -82,8 +81,7 @@ tt_status tt_kdtree_blocks_build(tt_context *ctx, tt_kdtree *t, const float *tri
         else tt_tri_block_pack(tri, t->refs + n.u.first, c, blocks + next);
         next += tt_tri_block_count(c);
     })
-    const int threads = tt_context_threads(ctx) > 0 ? tt_context_threads(ctx) : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1024) num_threads(threads) if (packs > 8192)
+#pragma omp parallel for schedule(dynamic, 1024) num_threads(tt_context_team(ctx)) if (packs > 8192)
     for (uint32_t j = 0; j < packs; j++) {
         const tt_kd_node n = t->nodes[leaf[j]];
         tt_tri_block_pack(tri, t->refs + n.u.first, tt_kd_leaf_count(n.bits), blocks + nodes[leaf[j]].u.first);

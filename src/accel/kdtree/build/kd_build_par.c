@@ -1,15 +1,13 @@
 /* The parallel builds' shared parts (see kd_build_par.h). */
 #include "accel/kdtree/build/kd_build_par.h"
 
-#include <omp.h>
 #include <string.h>
 
 uint32_t kd_par_cutoff = 4096;
 
 int kd_par_threads(tt_context *ctx)
 {
-    int t = tt_context_threads(ctx);
-    return t > 0 ? t : omp_get_max_threads();
+    return tt_context_team(ctx);
 }
 
 int kd_par_account(kd_builder *b, uint32_t n, const kd_split *best)

@@ -3,15 +3,13 @@
  * packing, and the dispatch. */
 #include "accel/rtree/build/rtree_bulk.h"
 
-#include <omp.h>
 #include <string.h>
 
 #include "accel/rtree/rtree_box.h"
 
 int rt_bulk_threads(tt_context *ctx)
 {
-    int t = tt_context_threads(ctx);
-    return t > 0 ? t : omp_get_max_threads();
+    return tt_context_team(ctx);
 }
 
 tt_status rt_bulk_build(rt_builder *b, tt_context *ctx, const tt_rtree_options *opt,

@@ -17,7 +17,6 @@
  * written in place; otherwise the records and blocks of the nodes the
  * update touched are rewritten in the slack layout (rt_dyn_sync). */
 #include <math.h>
-#include <omp.h>
 #include <string.h>
 
 #include "accel/rtree/rtree_box.h"
@@ -48,7 +47,7 @@ static int jumped(const float old[6], const float now[6])
 static int threads_for(tt_context *ctx, size_t changed)
 {
     if (changed < ((size_t)1 << 17)) return 1;
-    return tt_context_threads(ctx) > 0 ? tt_context_threads(ctx) : omp_get_max_threads();
+    return tt_context_team(ctx);
 }
 
 /* The record of an update answered by rt_dyn_deform alone (moves only). */
