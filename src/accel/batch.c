@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "accel/accel.h"
+#include "accel/packet_probe.h"
 #include "accel/packets.h"
 #include "accel/ray_check.h"
 
@@ -253,63 +254,6 @@ static int packets_allowed(const tt_accel *accel, const tt_accel_vtable *vt,
     return closest ? vt->intersect_packet != NULL : vt->occluded_packet != NULL;
 }
 
-/* The structure's word on packets (vt->packets_pay), per thread and batch:
- * a coherent item is now and then traced by the counting variant and its
- * counts judged; the items between follow the last answer. The gap between
- * probes doubles while the answer holds (up to PROBE_GAP_MAX coherent
- * items) and falls back to PROBE_GAP_MIN when it changes, so a batch of one
- * kind pays a handful of probes (bench D's bunny, 512^2: about 7 of a
- * thread's 210 shadow items; instructions of a shadow batch whose probes
- * all say yes, callgrind: Cornell, Sibenik +0.05%), and a batch whose
- * kind changes halfway is caught within PROBE_GAP_MAX of its items. */
-#define PROBE_GAP_MIN 4u
-#define PROBE_GAP_MAX 64u
-typedef struct packet_probe {
-    int pay;            /* the last answer (1 before any probe)       */
-    int noes;           /* the structure's "no"s in a row              */
-    uint32_t coherent;  /* coherent items this thread has met          */
-    uint32_t next, gap; /* the coherent item to probe next, the gap    */
-} packet_probe;
-
-/* Traces the item (rows of a coherent item) by packets when it is the one
- * to probe, the counting variant giving the counts (added to *sum when the
- * batch counts), and returns 1; else returns 0 and sets *packet to the
- * last answer. */
-static int probe_packets(const tt_accel *accel, const tt_accel_vtable *vt, packet_probe *pp,
-                         const tt_packet_rays *pr, tt_hit *hits, uint8_t *occ, int *packet,
-                         tt_packet_stats *sum)
-{
-    if (pp->coherent++ != pp->next) {
-        *packet = pp->pay;
-        return 0;
-    }
-    tt_packet_stats ps;
-    memset(&ps, 0, sizeof ps);
-    if (hits) vt->intersect_packet_stats(accel, pr, hits, &ps);
-    else vt->occluded_packet_stats(accel, pr, occ, &ps);
-    if (sum) {
-        tt_ray_stats_add(&sum->rays, &ps.rays);
-        sum->packets += ps.packets;
-        sum->node_visits += ps.node_visits;
-        sum->active_lanes += ps.active_lanes;
-        sum->fallback_rays += ps.fallback_rays;
-    }
-    /* Packets stop only after two "no"s in a row: one item is a small
-     * sample (a tile of a coherent view can fall below the structure's bound
-     * alone: test_packet_rule saw Sibenik's shadow batches lose a fifth of
-     * their packets to single "no"s), a batch that does not pay says it
-     * again at the next probe. */
-    pp->noes = vt->packets_pay(accel, hits == NULL, &ps) ? 0 : pp->noes + 1;
-    const int pay = pp->noes < 2;
-    /* (after a first "no" the next item is probed) */
-    pp->gap = pp->noes == 1 ? 1u
-              : pay == pp->pay ? (pp->gap * 2u < PROBE_GAP_MAX ? pp->gap * 2u : PROBE_GAP_MAX)
-                               : PROBE_GAP_MIN;
-    pp->pay = pay;
-    pp->next = pp->coherent - 1u + pp->gap;
-    return 1;
-}
-
 /* The loop both calls share: each thread takes the plan's items, checks
  * and traces their rays, and stores a hit (hits != NULL: closest hits) or
  * an occlusion byte. The choice is one predictable branch a ray, which
@@ -344,11 +288,8 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
      * are, for one path or the other) and judged after the check
      * (tt_packet_coherent, packets.h) */
     const int judge = use_packets && o->packets == TT_PACKETS_AUTO;
-    /* ... and asks the structure whether packets pay (packet_probe); the
+    /* ... and asks the structure whether packets pay (packet_probe.h); the
      * counting variants take the same path, their counts the probes' too */
-    const int probe = judge && vt->packets_pay &&
-                      (hits ? vt->intersect_packet_stats != NULL
-                            : vt->occluded_packet_stats != NULL);
     const tt_ray *const aos = aos_rays_of(rays);
     tt_hit *const hits_aos = aos_hits_of(hits);
     tt_status entered = tt_accel_trace_enter(accel, call);
@@ -367,7 +308,8 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
         tt_hit ph[TT_PACKET_MAX];
         uint8_t pocc[TT_PACKET_MAX];
         size_t pidx[TT_PACKET_MAX];
-        packet_probe pp = {1, 0, 0, 0, PROBE_GAP_MIN / 2u};
+        tt_packet_probe pp;
+        tt_packet_probe_init(&pp, accel, hits != NULL);
 #pragma omp for schedule(dynamic)
         for (long c = 0; c < p.items; c++) {
             int packet = use_packets;
@@ -419,9 +361,9 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                     pr->n = np = keep;
                 }
                 if (judge) packet = tt_packet_coherent(pr);
-                if (packet && probe &&
-                    probe_packets(accel, vt, &pp, pr, hits ? ph : NULL, pocc, &packet,
-                                  counting ? &plocal : NULL)) {
+                if (packet && judge &&
+                    tt_packet_probe_trace(&pp, accel, pr, hits ? ph : NULL, pocc, &packet,
+                                          counting ? &plocal : NULL)) {
                     /* traced by the probe */
                 } else if (packet && (np >= TT_PACKET_MIN || o->packets == TT_PACKETS_ON)) {
                     if (hits && counting) vt->intersect_packet_stats(accel, pr, ph, &plocal);
