@@ -107,6 +107,33 @@ void rt_node_bounds(const rt_builder *b, uint32_t n, float out[6])
 {
     const float *s = rt_node_box(b, n);
     int cap = b->cap, cnt = b->hdr[n].count;
+#if defined(__SSE2__)
+    /* four entries at a time, the last four loaded again for a count that
+     * is not a multiple of four (min and max do not mind seeing an entry
+     * twice); the spare lanes past the count are never read. The scalar
+     * loop was a twelfth of an edits frame (the condense step's climb and
+     * the insertion search's root) */
+    if (cnt >= 4) {
+        for (int k = 0; k < 6; k++) {
+            const float *row = s + k * cap;
+            __m128 acc = _mm_loadu_ps(row);
+            int i = 4;
+            if (k < 3) {
+                for (; i + 4 <= cnt; i += 4) acc = _mm_min_ps(acc, _mm_loadu_ps(row + i));
+                if (i < cnt) acc = _mm_min_ps(acc, _mm_loadu_ps(row + cnt - 4));
+                acc = _mm_min_ps(acc, _mm_shuffle_ps(acc, acc, _MM_SHUFFLE(1, 0, 3, 2)));
+                acc = _mm_min_ps(acc, _mm_shuffle_ps(acc, acc, _MM_SHUFFLE(2, 3, 0, 1)));
+            } else {
+                for (; i + 4 <= cnt; i += 4) acc = _mm_max_ps(acc, _mm_loadu_ps(row + i));
+                if (i < cnt) acc = _mm_max_ps(acc, _mm_loadu_ps(row + cnt - 4));
+                acc = _mm_max_ps(acc, _mm_shuffle_ps(acc, acc, _MM_SHUFFLE(1, 0, 3, 2)));
+                acc = _mm_max_ps(acc, _mm_shuffle_ps(acc, acc, _MM_SHUFFLE(2, 3, 0, 1)));
+            }
+            out[k] = _mm_cvtss_f32(acc);
+        }
+        return;
+    }
+#endif
     rt_box_empty(out);
     for (int k = 0; k < 3; k++) {
         for (int i = 0; i < cnt; i++) {
@@ -408,6 +435,10 @@ static float half_area(const float b[6])
     return x * y + y * z + z * x;
 }
 
+/* The SIMD lanes a node's entries round up to (the pool's spare lanes are
+ * read there, and their results set aside). */
+#define LANES4(cnt) (((cnt) + 3) & ~3)
+
 /* rt_builder.sah_leaves: the leaf of level-1 node n (of half area an,
  * before e) whose cost grows least by taking box e (of half area ae), or
  * -1 where a new leaf of e alone costs less; the cost into *cost. */
@@ -423,6 +454,45 @@ static int choose_leaf_sah(const rt_builder *b, uint32_t n, const float e[6], fl
     const float split = cnt >= M ? b->sah_split_cost * an : 0.0f;
     float best = ae + split;
     int best_i = -1;
+#if defined(__SSE2__)
+    /* the leaves' counts gathered, then every cost four at a time (the
+     * scalar loop's operations in its order) and the first least one: a
+     * third of the search's instructions were this loop, scalar */
+    float kf[TT_RT_CAP + 3], sp[TT_RT_CAP + 3];
+    int i = 0;
+    for (; i < cnt; i++) {
+        const int kc = b->hdr[ch[i]].count;
+        kf[i] = (float)kc;
+        sp[i] = kc >= M ? split : 0.0f;
+    }
+    for (; i < LANES4(cnt); i++) { /* spare lanes: cost +inf */
+        kf[i] = 0.0f;
+        sp[i] = TT_INF;
+    }
+    const __m128 one = _mm_set1_ps(1.0f);
+    __m128 lo = _mm_set1_ps(TT_INF), cv[(TT_RT_CAP + 3) / 4];
+    for (i = 0; i < cnt; i += 4) {
+        const __m128 k = _mm_loadu_ps(kf + i);
+        const __m128 c = _mm_add_ps(_mm_sub_ps(_mm_mul_ps(_mm_loadu_ps(grown + i), _mm_add_ps(k, one)),
+                                               _mm_mul_ps(_mm_loadu_ps(area + i), k)),
+                                    _mm_loadu_ps(sp + i));
+        cv[i / 4] = c;
+        lo = _mm_min_ps(c, lo); /* a NaN cost is never chosen, as in the scalar loop */
+    }
+    lo = _mm_min_ps(lo, _mm_shuffle_ps(lo, lo, _MM_SHUFFLE(1, 0, 3, 2)));
+    lo = _mm_min_ps(lo, _mm_shuffle_ps(lo, lo, _MM_SHUFFLE(2, 3, 0, 1)));
+    const float m = _mm_cvtss_f32(lo);
+    if (m < best) {
+        best = m;
+        for (i = 0; i < cnt; i += 4) {
+            const int eq = _mm_movemask_ps(_mm_cmpeq_ps(cv[i / 4], lo));
+            if (eq) {
+                best_i = i + __builtin_ctz((unsigned)eq);
+                break;
+            }
+        }
+    }
+#else
     for (int i = 0; i < cnt; i++) {
         const int kc = b->hdr[ch[i]].count;
         const float k = (float)kc;
@@ -432,8 +502,79 @@ static int choose_leaf_sah(const rt_builder *b, uint32_t n, const float e[6], fl
             best_i = i;
         }
     }
+#endif
     *cost = best;
     return best_i;
+}
+
+/* Node n's entries against box e, as entry_measures measures them: half
+ * areas into area[], the growth by e into d[]; the lanes past the count
+ * get +inf growth, so that no choice or bound takes them. */
+static void entry_growth(const rt_builder *b, uint32_t n, const float e[6], float *area, float *d)
+{
+    const int cnt = b->hdr[n].count;
+    float grown[TT_RT_CAP + 3];
+    entry_measures(b, n, e, area, grown, NULL, NULL);
+#if defined(__SSE2__)
+    const __m128 inf = _mm_set1_ps(TT_INF), lane = _mm_setr_ps(0.0f, 1.0f, 2.0f, 3.0f);
+    const __m128 count = _mm_set1_ps((float)cnt);
+    for (int i = 0; i < cnt; i += 4) {
+        const __m128 g = _mm_sub_ps(_mm_loadu_ps(grown + i), _mm_loadu_ps(area + i));
+        const __m128 out = _mm_cmpge_ps(_mm_add_ps(lane, _mm_set1_ps((float)i)), count);
+        _mm_storeu_ps(d + i, _mm_or_ps(_mm_and_ps(out, inf), _mm_andnot_ps(out, g)));
+    }
+#else
+    for (int i = 0; i < cnt; i++) d[i] = grown[i] - area[i];
+    for (int i = cnt; i < LANES4(cnt); i++) d[i] = TT_INF;
+#endif
+}
+
+/* The greedy choice among cnt entries: the least growth, then the least
+ * area, then the first. */
+static int greedy_pick(const float *area, const float *d, int cnt)
+{
+#if defined(__SSE2__)
+    __m128 lo = _mm_set1_ps(TT_INF);
+    for (int i = 0; i < cnt; i += 4) lo = _mm_min_ps(_mm_loadu_ps(d + i), lo);
+    lo = _mm_min_ps(lo, _mm_shuffle_ps(lo, lo, _MM_SHUFFLE(1, 0, 3, 2)));
+    lo = _mm_min_ps(lo, _mm_shuffle_ps(lo, lo, _MM_SHUFFLE(2, 3, 0, 1)));
+    /* among the least growths, the least area */
+    const __m128 inf = _mm_set1_ps(TT_INF);
+    __m128 la = inf;
+    for (int i = 0; i < cnt; i += 4) {
+        const __m128 eq = _mm_cmpeq_ps(_mm_loadu_ps(d + i), lo);
+        la = _mm_min_ps(_mm_or_ps(_mm_and_ps(eq, _mm_loadu_ps(area + i)), _mm_andnot_ps(eq, inf)),
+                        la);
+    }
+    la = _mm_min_ps(la, _mm_shuffle_ps(la, la, _MM_SHUFFLE(1, 0, 3, 2)));
+    la = _mm_min_ps(la, _mm_shuffle_ps(la, la, _MM_SHUFFLE(2, 3, 0, 1)));
+    for (int i = 0; i < cnt; i += 4) {
+        const int hit = _mm_movemask_ps(_mm_and_ps(_mm_cmpeq_ps(_mm_loadu_ps(d + i), lo),
+                                                   _mm_cmpeq_ps(_mm_loadu_ps(area + i), la)));
+        if (hit) return i + __builtin_ctz((unsigned)hit);
+    }
+#endif
+    int bi = 0; /* the scalar choice (also where the lanes found none: NaN) */
+    for (int i = 1; i < cnt; i++)
+        if (d[i] < d[bi] || (d[i] == d[bi] && area[i] < area[bi])) bi = i;
+    return bi;
+}
+
+/* Bit i set where ind + d[i] + ae < best: entry i's subtree may hold a
+ * place cheaper than the best so far. */
+static unsigned promising(const float *d, int cnt, float ind, float ae, float best)
+{
+    unsigned mask = 0;
+#if defined(__SSE2__)
+    const __m128 vi = _mm_set1_ps(ind), va = _mm_set1_ps(ae), vb = _mm_set1_ps(best);
+    for (int i = 0; i < cnt; i += 4)
+        mask |= (unsigned)_mm_movemask_ps(
+                    _mm_cmplt_ps(_mm_add_ps(_mm_add_ps(vi, _mm_loadu_ps(d + i)), va), vb))
+                << i;
+#else
+    for (int i = 0; i < cnt; i++) mask |= (unsigned)(ind + d[i] + ae < best) << i;
+#endif
+    return mask;
 }
 
 typedef struct sah_cand {
@@ -469,95 +610,103 @@ static sah_cand heap_pop(sah_cand *h, int *cnt)
     return top;
 }
 
+/* The entries of node n (their growths d[], areas area[], the path's
+ * growth ind above n) that may beat `best` onto the heap, but `skip`. */
+static void push_promising(const rt_builder *b, uint32_t n, const float *area, const float *d,
+                           float ind, float ae, float best, int skip, sah_cand *heap, int *cnt)
+{
+    const uint32_t *ch = rt_node_child(b, n);
+    unsigned mask = promising(d, b->hdr[n].count, ind, ae, best);
+    if (skip >= 0) mask &= ~(1u << skip);
+    while (mask) {
+        const int i = __builtin_ctz(mask);
+        mask &= mask - 1;
+        const float in = ind + d[i];
+        heap_push(heap, cnt, (sah_cand){in + ae, in, area[i], ch[i]});
+    }
+}
+
+/* Where the SAH search puts a triangle: a level-1 node and its leaf
+ * there (-1: a new leaf). */
+typedef struct sah_place {
+    uint32_t n;
+    int leaf;
+} sah_place;
+
 /* rt_builder.sah_leaves: the level-1 node where box e costs least
  * (Bittner et al. 2013's search: best first by the area the path's boxes
- * grow, bounded by the least a leaf can cost, A(e)); *an its half area.
+ * grow, bounded by the least a leaf can cost, A(e)), and the leaf there.
  * The greedy descent (least growth at each level) goes first: its cost
  * bounds the search, and the entries it passed by go on the heap with the
  * measures it took, so the search never measures the greedy path again
- * (measuring it twice was a quarter of the search's instructions). */
-static uint32_t find_level1_sah(const rt_builder *b, const float e[6], float *an)
+ * (measuring it twice was a quarter of the search's instructions). A
+ * node's entries are measured and screened four at a time (entry_growth,
+ * greedy_pick, promising): only the entries that pass are touched one by
+ * one. */
+static sah_place find_level1_sah(const rt_builder *b, const float e[6])
 {
     sah_cand heap[SAH_HEAP];
     int cnt = 0, evals = 1; /* the greedy node is the first evaluated */
     const float ae = half_area(e);
-    float rb[6];
-    rt_node_bounds(b, b->root, rb);
     /* the path's nodes, their entries' measures, the greedy choice and the
      * path's growth above them */
-    float area[TT_RT_BUILD_LEVELS][TT_RT_CAP + 3], grown[TT_RT_BUILD_LEVELS][TT_RT_CAP + 3];
+    float area[TT_RT_BUILD_LEVELS][TT_RT_CAP + 3], d[TT_RT_BUILD_LEVELS][TT_RT_CAP + 3];
     uint32_t path[TT_RT_BUILD_LEVELS];
     float path_ind[TT_RT_BUILD_LEVELS];
     int pick[TT_RT_BUILD_LEVELS], depth = 0;
     uint32_t n = b->root;
-    float ind = 0.0f, na = half_area(rb);
+    float ind = 0.0f, na = 0.0f;
+    if (b->hdr[n].level <= 1) { /* the root is the level-1 node: its own area */
+        float rb[6];
+        rt_node_bounds(b, n, rb);
+        na = half_area(rb);
+    }
     while (b->hdr[n].level > 1) {
-        float *ar = area[depth], *gr = grown[depth];
-        entry_measures(b, n, e, ar, gr, NULL, NULL);
-        int bi = 0;
-        for (int i = 1; i < b->hdr[n].count; i++) {
-            const float d = gr[i] - ar[i], db = gr[bi] - ar[bi];
-            if (d < db || (d == db && ar[i] < ar[bi])) bi = i;
-        }
+        float *ar = area[depth], *dd = d[depth];
+        entry_growth(b, n, e, ar, dd);
+        const int bi = greedy_pick(ar, dd, b->hdr[n].count);
         path[depth] = n;
         path_ind[depth] = ind;
         pick[depth++] = bi;
-        ind += gr[bi] - ar[bi];
+        ind += dd[bi];
         na = ar[bi];
         n = rt_node_child(b, n)[bi];
     }
     float lc;
-    choose_leaf_sah(b, n, e, ae, na, &lc);
+    sah_place best_p = {n, choose_leaf_sah(b, n, e, ae, na, &lc)};
     float best = ind + lc;
-    uint32_t best_n = n;
-    *an = na;
-    for (int k = 0; k < depth; k++) {
-        const uint32_t *ch = rt_node_child(b, path[k]);
-        for (int i = 0; i < b->hdr[path[k]].count; i++) {
-            const float in = path_ind[k] + (grown[k][i] - area[k][i]);
-            if (i != pick[k] && in + ae < best)
-                heap_push(heap, &cnt, (sah_cand){in + ae, in, area[k][i], ch[i]});
-        }
-    }
+    for (int k = 0; k < depth; k++)
+        push_promising(b, path[k], area[k], d[k], path_ind[k], ae, best, pick[k], heap, &cnt);
     while (cnt) {
         const sah_cand c = heap_pop(heap, &cnt);
         if (c.lb >= best || evals >= b->sah_max_evals) break;
         const uint32_t m = c.n;
         if (b->hdr[m].level == 1) {
-            choose_leaf_sah(b, m, e, ae, c.area, &lc);
+            const int li = choose_leaf_sah(b, m, e, ae, c.area, &lc);
             if (c.ind + lc < best) {
                 best = c.ind + lc;
-                best_n = m;
-                *an = c.area;
+                best_p = (sah_place){m, li};
             }
             evals++;
             continue;
         }
-        float ar[TT_RT_CAP + 3], gr[TT_RT_CAP + 3];
-        entry_measures(b, m, e, ar, gr, NULL, NULL);
-        const uint32_t *ch = rt_node_child(b, m);
-        for (int i = 0; i < b->hdr[m].count; i++) {
-            const float in = c.ind + (gr[i] - ar[i]);
-            if (in + ae < best) heap_push(heap, &cnt, (sah_cand){in + ae, in, ar[i], ch[i]});
-        }
+        float ar[TT_RT_CAP + 3], dd[TT_RT_CAP + 3];
+        entry_growth(b, m, e, ar, dd);
+        push_promising(b, m, ar, dd, c.ind, ae, best, -1, heap, &cnt);
     }
-    return best_n;
+    return best_p;
 }
 
 static tt_status overflow(rt_builder *b, uint32_t n);
 
 /* rt_builder.sah_leaves: triangle entry (e, c) into the leaf or new leaf
- * the search found; the boxes on the way up grown to hold e. */
+ * the search found; the boxes on the way up grown to hold e (the level-1
+ * node's own entries do not change by that, so the search's choice of
+ * leaf stands). */
 static tt_status insert_triangle_sah(rt_builder *b, const float e[6], uint32_t c)
 {
-    float an = 0.0f;
-    uint32_t n = find_level1_sah(b, e, &an);
-    if (n == TT_INVALID_ID) { /* the search's heap overflowed: the greedy path */
-        for (n = b->root; b->hdr[n].level > 1;) n = rt_node_child(b, n)[choose_entry(b, n, e)];
-        float nb[6];
-        rt_node_bounds(b, n, nb);
-        an = half_area(nb);
-    }
+    const sah_place at = find_level1_sah(b, e);
+    const uint32_t n = at.n;
     for (uint32_t m = n; b->hdr[m].parent != TT_INVALID_ID; m = b->hdr[m].parent) {
         const uint32_t p = b->hdr[m].parent;
         float *s = rt_node_box(b, p);
@@ -568,8 +717,7 @@ static tt_status insert_triangle_sah(rt_builder *b, const float e[6], uint32_t c
             s[(k + 3) * cap + i] = rt_max(s[(k + 3) * cap + i], e[k + 3]);
         }
     }
-    float cost;
-    const int i = choose_leaf_sah(b, n, e, half_area(e), an, &cost);
+    const int i = at.leaf;
     if (i < 0) { /* a leaf of its own, entered in n */
         uint32_t leaf;
         tt_status st = new_node(b, 0, &leaf);
