@@ -11,6 +11,7 @@
 #include "accel/kdtree/build/kd_build.h"
 #include "accel/kdtree/build/kd_build_par.h"
 #include "accel/kdtree/build/kd_clip.h"
+#include "accel/kdtree/build/kd_memory.h"
 
 /* Most nodes are small and were each paying for several malloc/free
  * pairs. Their event blocks come from reusable buffers instead: the
@@ -50,6 +51,7 @@ static int get_block(nl_state *s, int depth, int which, size_t n, int own, nl_li
     if (n > POOL_EVENTS || own) {
         l->block = tt_alloc_array(s->ctx, n, sizeof *l->block);
         l->owned = 1;
+        kd_advise_huge(l->block, n * sizeof *l->block);
         return l->block != NULL;
     }
     uint64_t **slot = &s->pool[2 * depth + which];
@@ -563,6 +565,8 @@ static tt_status build_parallel(kd_builder *b, const tt_aabb *root, int threads)
     p.scratch = tt_calloc(b->ctx, (size_t)threads, sizeof *p.scratch);
     lists.block = tt_alloc_array(b->ctx, 6 * (size_t)n, sizeof *lists.block);
     uint64_t *tmp = tt_alloc_array(b->ctx, 6 * (size_t)n, sizeof *tmp);
+    kd_advise_huge(lists.block, 6 * (size_t)n * sizeof *lists.block);
+    kd_advise_huge(tmp, 6 * (size_t)n * sizeof *tmp);
     kd_sub *top = kd_sub_new(b);
     tt_status st = TT_OK;
     if (!p.scratch || !lists.block || !tmp || !top) {
@@ -603,6 +607,8 @@ tt_status kd_build_nlogn(kd_builder *b, const tt_aabb *root)
     nl_lists lists = {NULL, {0, 0, 0}, 1, 0};
     lists.block = tt_alloc_array(b->ctx, 6 * (size_t)n, sizeof *lists.block);
     uint64_t *tmp = tt_alloc_array(b->ctx, 2 * (size_t)n, sizeof *tmp);
+    kd_advise_huge(lists.block, 6 * (size_t)n * sizeof *lists.block);
+    kd_advise_huge(tmp, 2 * (size_t)n * sizeof *tmp);
     tt_status st;
     if (!state_alloc(&s, n) || !lists.block || !tmp) {
         tt_free(b->ctx, lists.block);
