@@ -84,35 +84,29 @@ static uint32_t classify(nl_state *s, const uint64_t *ev, size_t n_ev, const kd_
 {
     const uint32_t pkey = kd_float_key(sp->pos);
     const uint8_t planar_side = sp->planar_left ? KD_SIDE_LEFT : KD_SIDE_RIGHT;
-    enum { KEEP = 0, B = KD_SIDE_BOTH, L = KD_SIDE_LEFT, R = KD_SIDE_RIGHT };
-    /* What an event of type t whose position is below, at or above the
-     * plane (c = 0, 1, 2) says, at [3 t + c]: the side it sets (KEEP: an
-     * END above the plane leaves its START's word), and whether it
-     * completes a left or right triangle (counted once: at the END of a
-     * left one, the START of a right one, a planar one's only event).
-     * Looked up, not branched on: the types come in no predictable
-     * order, and the branches were mispredicted half of the time. */
-    _Static_assert(KD_END == 0 && KD_PLANAR == 1 && KD_START == 2, "event types");
-    const uint8_t set[9] = {L, L, KEEP, L, planar_side, R, B, R, R};
-    const uint8_t add_l[9] = {1, 1, 0, 1, planar_side == L, 0, 0, 0, 0};
-    const uint8_t add_r[9] = {0, 0, 0, 0, planar_side == R, 1, 0, 1, 1};
     uint32_t nl = 0, nr = 0, nb = 0;
     for (size_t i = 0; i < n_ev; i++) {
-        const uint32_t key = kd_event_poskey(ev[i]), t = kd_event_tri(ev[i]);
-        const uint32_t at = 3 * kd_event_type(ev[i]) + (key >= pkey) + (key > pkey);
-        const uint8_t old = s->side[t], now = set[at];
-        s->side[t] = now ? now : old;
-        nl += add_l[at];
-        nr += add_r[at];
-        /* An END above the plane whose START was below: a straddler. */
-        const int straddles = at == 2 && old == B;
-        s->ids[nb] = t;
-        nb += (uint32_t)straddles;
-        if (straddles) {
-            /* reclip reads it next: the scene's triangles are far larger
-             * than the caches. (Rare: a predictable branch.) */
-            __builtin_prefetch(s->tri + 9 * (size_t)t);
-            __builtin_prefetch(s->tri + 9 * (size_t)t + 8);
+        const uint32_t key = kd_event_poskey(ev[i]), type = kd_event_type(ev[i]), t = kd_event_tri(ev[i]);
+        if (type == KD_START) {
+            s->side[t] = key >= pkey ? KD_SIDE_RIGHT : KD_SIDE_BOTH;
+            nr += key >= pkey;
+        } else if (type == KD_END) {
+            if (key <= pkey) {
+                s->side[t] = KD_SIDE_LEFT;
+                nl++;
+            } else if (s->side[t] == KD_SIDE_BOTH) {
+                s->ids[nb++] = t;
+                /* reclip reads it next: the scene's triangles are far
+                 * larger than the caches. */
+                __builtin_prefetch(s->tri + 9 * (size_t)t);
+                __builtin_prefetch(s->tri + 9 * (size_t)t + 8);
+            }
+        } else {
+            uint8_t side = key < pkey ? KD_SIDE_LEFT : key > pkey ? KD_SIDE_RIGHT : planar_side;
+            s->side[t] = side;
+            _Static_assert(KD_SIDE_LEFT == 1 && KD_SIDE_RIGHT == 2, "side bits");
+            nl += side & KD_SIDE_LEFT;
+            nr += side >> 1; /* KD_SIDE_RIGHT */
         }
     }
     /* The straddlers' events are not copied to either child (their new
