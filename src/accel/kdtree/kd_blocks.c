@@ -2,6 +2,7 @@
 #include "accel/kdtree/kd_blocks.h"
 
 #include "accel/kdtree/kd_lines.h"
+#include "accel/kdtree/build/kd_memory.h"
 
 #include <stdint.h>
 #include <string.h>
@@ -62,6 +63,7 @@ tt_status tt_kdtree_blocks_build(tt_context *ctx, tt_kdtree *t, const float *tri
         tt_free(ctx, leaf);
         return tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "kdtree: out of memory for leaf blocks");
     }
+    kd_advise_huge(mem, (size_t)count * sizeof(tt_tri_block) + 63);
     /* The kernels load blocks with aligned loads. */
     tt_tri_block *blocks = (tt_tri_block *)(((uintptr_t)mem + 63) & ~(uintptr_t)63);
     memcpy(nodes, t->nodes, (size_t)t->node_slots * sizeof *nodes);

@@ -11,6 +11,7 @@
 #include "accel/kdtree/build/kd_build.h"
 #include "accel/kdtree/build/kd_build_par.h"
 #include "accel/kdtree/build/kd_clip.h"
+#include "accel/kdtree/build/kd_memory.h"
 
 /* Most nodes are small and were each paying for several malloc/free
  * pairs. Their event blocks come from reusable buffers instead: the
@@ -50,6 +51,7 @@ static int get_block(nl_state *s, int depth, int which, size_t n, int own, nl_li
     if (n > POOL_EVENTS || own) {
         l->block = tt_alloc_array(s->ctx, n, sizeof *l->block);
         l->owned = 1;
+        kd_advise_huge(l->block, n * sizeof *l->block);
         return l->block != NULL;
     }
     uint64_t **slot = &s->pool[2 * depth + which];
@@ -436,9 +438,11 @@ static uint32_t root_events(const kd_builder *b, const tt_aabb *root, uint64_t *
  * by a task per chunk of triangles and each axis is sorted by a task of
  * its own; tmp then holds 6 n keys, else 2 n. Either way a run lists its
  * events in triangle order before the (stable) sort, so the lists are the
- * same. Returns the number of triangles that touch the root cell. */
+ * same. With ax (a parallel build's root, else NULL) also the root's
+ * sweeps, into ax[0..2], when *swept says so. Returns the number of
+ * triangles that touch the root cell. */
 static uint32_t root_lists(const kd_builder *b, const tt_aabb *root, nl_lists *lists, uint64_t *tmp,
-                           int tasks)
+                           int tasks, kd_split ax[3], int *swept)
 {
     const uint32_t n = b->tri_count;
     int chunks = 1;
@@ -460,11 +464,19 @@ static uint32_t root_lists(const kd_builder *b, const tt_aabb *root, nl_lists *l
 #pragma omp taskwait
     uint32_t m = 0;
     for (int c = 0; c < chunks; c++) m += kept[c];
+    /* With ax (a parallel build), the root's sweeps too: each axis' sweep
+     * is a task that starts as soon as that axis is sorted, so that on two
+     * threads the third sort runs beside the first sweeps instead of
+     * alone. par_build's rule for sweeping a node, decided here for the
+     * root (nothing can have aborted yet). */
+    *swept = ax && m >= kd_par_cutoff && b->max_depth > 0;
+    char sorted[3]; /* what the depend clauses name (only its addresses) */
+    (void)sorted;
     for (int k = 0; k < 3; k++) {
         uint64_t *run = block + 2 * (size_t)n * k, *t = tmp + (tasks ? 2 * (size_t)n * k : 0);
         lists->n[k] = 0;
         for (int c = 0; c < chunks; c++) lists->n[k] += count[c][k];
-#pragma omp task firstprivate(run, t, k) shared(count) if (tasks)
+#pragma omp task firstprivate(run, t, k) shared(count) depend(out : sorted[k]) if (tasks)
         {
             /* Axis runs of 2 n events each at first; the chunks' parts
              * are moved together (down, in chunk order), then sorted. */
@@ -477,6 +489,15 @@ static uint32_t root_lists(const kd_builder *b, const tt_aabb *root, nl_lists *l
             kd_radix_sort_events(run, t, len);
         }
     }
+    if (*swept)
+        for (int k = 0; k < 3; k++) {
+            const uint64_t *run = block + 2 * (size_t)n * k;
+            const size_t len = lists->n[k];
+            const kd_split none = {-1, 0.0f, 0, INFINITY, 0, 0};
+            ax[k] = none;
+#pragma omp task firstprivate(run, len, k) shared(ax) depend(in : sorted[k])
+            kd_sweep(b, run, len, m, root, k, &ax[k]);
+        }
 #pragma omp taskwait
     /* The runs stay where they are, 2 n apart: moving them together was
      * a serial copy of the whole root's events. */
@@ -503,11 +524,15 @@ static nl_state *my_state(nl_par *p)
 
 /* A node built by tasks into sub (see kd_build_par.h). Consumes lists. */
 static tt_status par_build(nl_par *p, kd_sub *sub, nl_lists *lists, uint32_t n, const tt_aabb *cell,
-                           kd_place here)
+                           kd_place here, const kd_split *swept)
 {
     kd_builder *b = &sub->out;
     kd_split split = {-1, 0.0f, 0, INFINITY, 0, 0};
-    if (n >= kd_par_cutoff && here.depth < b->max_depth && !kd_par_aborted(b)) {
+    if (swept) {
+        /* the root's, swept by root_lists */
+        for (int k = 0; k < 3; k++)
+            if (swept[k].cost < split.cost) split = swept[k];
+    } else if (n >= kd_par_cutoff && here.depth < b->max_depth && !kd_par_aborted(b)) {
         /* The three axes' sweeps at once; the lowest cost wins, the lower
          * axis on a tie, as in the serial loop. */
         kd_split ax[3];
@@ -546,9 +571,9 @@ static tt_status par_build(nl_par *p, kd_sub *sub, nl_lists *lists, uint32_t n, 
     const kd_place child = kd_child_place(b, &here);
     kd_sub *l = sub->kid[0], *r = sub->kid[1];
 #pragma omp task firstprivate(l, left, nl, lcell)
-    l->st = par_build(p, l, &left, nl, &lcell, child);
+    l->st = par_build(p, l, &left, nl, &lcell, child, NULL);
 #pragma omp task firstprivate(r, right, nr, rcell)
-    r->st = par_build(p, r, &right, nr, &rcell, child);
+    r->st = par_build(p, r, &right, nr, &rcell, child, NULL);
 #pragma omp taskwait
     return l->st != TT_OK ? l->st : r->st;
 }
@@ -563,6 +588,8 @@ static tt_status build_parallel(kd_builder *b, const tt_aabb *root, int threads)
     p.scratch = tt_calloc(b->ctx, (size_t)threads, sizeof *p.scratch);
     lists.block = tt_alloc_array(b->ctx, 6 * (size_t)n, sizeof *lists.block);
     uint64_t *tmp = tt_alloc_array(b->ctx, 6 * (size_t)n, sizeof *tmp);
+    kd_advise_huge(lists.block, 6 * (size_t)n * sizeof *lists.block);
+    kd_advise_huge(tmp, 6 * (size_t)n * sizeof *tmp);
     kd_sub *top = kd_sub_new(b);
     tt_status st = TT_OK;
     if (!p.scratch || !lists.block || !tmp || !top) {
@@ -573,11 +600,13 @@ static tt_status build_parallel(kd_builder *b, const tt_aabb *root, int threads)
 #pragma omp parallel num_threads(threads)
 #pragma omp single
         {
-            par.m = root_lists(b, root, &lists, tmp, 1);
+            kd_split ax[3];
+            int swept = 0;
+            par.m = root_lists(b, root, &lists, tmp, 1, ax, &swept);
             tt_free(b->ctx, tmp);
             tmp = NULL;
             kd_place here = {0, 0, TT_KD_NO_PARENT};
-            st = par_build(&p, top, &lists, (uint32_t)par.m, root, here);
+            st = par_build(&p, top, &lists, (uint32_t)par.m, root, here, swept ? ax : NULL);
         }
         if (par.abort) st = KD_ABORTED;
         if (st == TT_OK) st = kd_replay(b, top, root);
@@ -603,12 +632,15 @@ tt_status kd_build_nlogn(kd_builder *b, const tt_aabb *root)
     nl_lists lists = {NULL, {0, 0, 0}, 1, 0};
     lists.block = tt_alloc_array(b->ctx, 6 * (size_t)n, sizeof *lists.block);
     uint64_t *tmp = tt_alloc_array(b->ctx, 2 * (size_t)n, sizeof *tmp);
+    kd_advise_huge(lists.block, 6 * (size_t)n * sizeof *lists.block);
+    kd_advise_huge(tmp, 2 * (size_t)n * sizeof *tmp);
     tt_status st;
     if (!state_alloc(&s, n) || !lists.block || !tmp) {
         tt_free(b->ctx, lists.block);
         st = kd_oom(b);
     } else {
-        const uint32_t m = root_lists(b, root, &lists, tmp, 0);
+        int swept;
+        const uint32_t m = root_lists(b, root, &lists, tmp, 0, NULL, &swept);
         tt_free(b->ctx, tmp);
         tmp = NULL;
         kd_place here = {0, 0, TT_KD_NO_PARENT};
