@@ -92,12 +92,15 @@ static void kd_packet(const tt_accel *a, const tt_packet_rays *rays, int any, tt
                       uint8_t *occ, tt_packet_stats *stats)
 {
     const int trav = a->options.kdtree.traversal;
+    /* the kernel tests the leaves' blocks: the block view (the ISAs with
+     * a packet kernel have one once the tree is built or loaded) */
     const tt_kd_packet_fn fn =
-        (trav != TT_KD_BTR && trav != TT_KD_SLTR && trav != TT_KD_SEQ)
+        (trav != TT_KD_BTR && trav != TT_KD_SLTR && trav != TT_KD_SEQ &&
+         tree(a)->fast_view.blocks)
             ? tt_kd_packet_kernel(a->isa, stats != NULL)
             : NULL;
     if (fn) {
-        fn(&tree(a)->view, rays, any, hits, occ, stats);
+        fn(&tree(a)->fast_view, &tree(a)->view, rays, any, hits, occ, stats);
         return;
     }
     for (uint32_t i = 0; i < rays->n; i++) {

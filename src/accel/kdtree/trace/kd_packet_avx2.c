@@ -61,9 +61,12 @@ static inline __m256 kp_mask_avx2(uint32_t bits)
     _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(a),                                \
                                          _mm256_castsi256_ps(_mm256_set1_epi32((int)(x))), m))
 
-/* a vector of x in the lower four lanes and y in the upper four (two
- * triangles a test: kp_pairs) */
-#define PK_PAIR(x, y) _mm256_set_m128(_mm_set1_ps(y), _mm_set1_ps(x))
+/* kp_multi: a block's row of eight triangles' coordinates, lanes picked
+ * from a vector, 32-bit integers added */
+#define PK_ROW(p) _mm256_load_ps(p)
+#define PK_PERMX(idx, a) _mm256_permutevar8x32_ps(a, idx)
+#define PK_PERMXI(idx, a) _mm256_permutevar8x32_epi32(a, idx)
+#define PK_ADDI _mm256_add_epi32
 #define KD_SINGLE_INTERSECT tt_kd_avx2_intersect
 #define KD_SINGLE_OCCLUDED tt_kd_avx2_occluded
 

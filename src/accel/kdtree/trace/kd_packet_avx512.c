@@ -49,6 +49,14 @@ typedef __m512i pk_vi;
 #define PK_MASK(bits) ((pk_m)(bits))
 #define PK_BLEND(m, a, b) _mm512_mask_blend_ps(m, a, b) /* m ? b : a */
 #define PK_BLENDI(m, a, x) _mm512_mask_blend_epi32(m, a, _mm512_set1_epi32((int)(x)))
+/* kp_multi: a block's row of eight triangles' coordinates in the lower
+ * half (the upper is never picked), two blocks' rows side by side, lanes
+ * picked from a vector, 32-bit integers added */
+#define PK_ROW(p) _mm512_castps256_ps512(_mm256_load_ps(p))
+#define PK_ROW2(p, q) _mm512_insertf32x8(_mm512_castps256_ps512(_mm256_load_ps(p)), _mm256_load_ps(q), 1)
+#define PK_PERMX(idx, a) _mm512_permutexvar_ps(idx, a)
+#define PK_PERMXI(idx, a) _mm512_permutexvar_epi32(idx, a)
+#define PK_ADDI _mm512_add_epi32
 
 #define KD_SINGLE_INTERSECT tt_kd_avx512_intersect
 #define KD_SINGLE_OCCLUDED tt_kd_avx512_occluded
