@@ -214,6 +214,8 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
     } else if (st == TT_OK) {
         /* the touched nodes' records and blocks rewritten in the slack
          * layout (a compaction now and then: rt_dyn_sync) */
+        d->lanes_since = since;
+        d->lanes_trust = !d->must_repack && scene->stamp != NULL;
         st = rt_dyn_sync(d, ctx, t, scene);
         if (st == TT_OK) d->must_repack = 0;
     }
