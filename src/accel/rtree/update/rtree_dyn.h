@@ -96,6 +96,13 @@ typedef struct rt_dyn {
      * deformation (which wrote the layout, and tri_box only for degenerate
      * triangles): tri_box from the lanes and a refit before use */
     int boxes_stale;
+    /* the sync's lanes: a lane that holds id and whose id's stamp is at
+     * most lanes_since holds its vertices already (written by an update
+     * at or after the id's last change) and is not written again;
+     * lanes_trust 0 (the first update, the layout from a build): every
+     * lane written */
+    uint64_t lanes_since;
+    int lanes_trust;
     uint32_t *ids; /* an update's changed ids */
     uint32_t *lev_rec, lev_cap; /* a deformation's records by level */
     size_t ids_cap;

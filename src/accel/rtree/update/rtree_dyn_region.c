@@ -249,6 +249,7 @@ tt_status rt_dyn_region_write(rt_dyn *d, const tt_rtc *c, const tt_scene *scene,
     /* 3. the lanes, slots and references of the leaves that changed or
      *    moved */
     tt_tri_block *blk = (tt_tri_block *)c->block;
+    const uint64_t *stamp = d->lanes_trust ? scene->stamp : NULL, since = d->lanes_since;
     for (int j = 0; j < nw; j++) {
         const int i = work[j];
         const uint32_t l = ch[i], k = b->hdr[l].count, *id = rt_node_child(b, l);
@@ -262,11 +263,15 @@ tt_status rt_dyn_region_write(rt_dyn *d, const tt_rtc *c, const tt_scene *scene,
             const uint64_t g = g0 + q;
             tt_tri_block *bk = blk + g / W;
             const uint32_t lane = (uint32_t)(g % W);
+            d->lane_of[id[q]] = (uint32_t)g;
+            /* a leaf that kept its slot changed in a lane or two (an entry
+             * added at the end, a removed one's place taken by the last):
+             * the other lanes hold their triangles as they are */
+            if (stamp && bk->prim[lane] == id[q] && stamp[id[q]] <= since) continue;
             const float *v = scene->tri + 9 * (size_t)id[q];
             const int dead = tt_tri_is_degenerate(v, v + 3, v + 6); /* as rtc_pack */
             for (int e = 0; e < 9; e++) bk->v[e][lane] = dead ? NAN : v[e];
             bk->prim[lane] = id[q];
-            d->lane_of[id[q]] = (uint32_t)g;
         }
         d->last_blocks += tt_tri_block_count(k); /* its slot's blocks, written */
         if (keep[i] == 1) { /* it may have shrunk: the rest of its slot */

@@ -18,6 +18,9 @@
  * update touched are rewritten in the slack layout (rt_dyn_sync). */
 #include <math.h>
 #include <string.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "accel/rtree/rtree_box.h"
 #include "accel/rtree/update/rtree_dyn.h"
@@ -48,6 +51,23 @@ static int threads_for(tt_context *ctx, size_t changed)
 {
     if (changed < ((size_t)1 << 17)) return 1;
     return tt_context_team(ctx);
+}
+
+/* Whether any of the 16 stamps at s is above since: since - stamp has
+ * its top bit set there (versions count edit calls, far below 2^63). */
+static int stamps_above(const uint64_t *s, uint64_t since)
+{
+#if defined(__SSE2__)
+    const __m128i v = _mm_set1_epi64x((long long)since);
+    __m128i acc = _mm_setzero_si128();
+    for (int j = 0; j < 16; j += 2)
+        acc = _mm_or_si128(acc, _mm_sub_epi64(v, _mm_loadu_si128((const __m128i *)(s + j))));
+    return _mm_movemask_pd(_mm_castsi128_pd(acc)) != 0;
+#else
+    uint64_t any = 0;
+    for (int j = 0; j < 16; j++) any |= since - s[j];
+    return (int)(any >> 63);
+#endif
 }
 
 /* The record of an update answered by rt_dyn_deform alone (moves only). */
@@ -101,10 +121,17 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
         changed = moved = 0; /* the general path: the list */
     }
     if (!sweep && flags) { /* every frame after the first: the tight loop */
-        for (size_t id = 0; id < T; id++) {
-            if (stamp[id] <= since) continue;
-            ids[changed++] = (uint32_t)id;
-            moved += ((flags[id] & TT_TRI_DEAD) == 0) & (leaf_of[id] != TT_INVALID_ID);
+        /* sixteen stamps at a time first (stamps_above): the branch per
+         * id cost ~10 instructions an id (5% of a bunny edits frame) */
+        size_t id = 0;
+        for (; id < T; id += 16) {
+            const size_t e = T - id < 16 ? T - id : 16;
+            if (e == 16 && !stamps_above(stamp + id, since)) continue;
+            for (size_t j = id; j < id + e; j++) {
+                if (stamp[j] <= since) continue;
+                ids[changed++] = (uint32_t)j;
+                moved += ((flags[j] & TT_TRI_DEAD) == 0) & (leaf_of[j] != TT_INVALID_ID);
+            }
         }
     }
     for (size_t id = 0; id < T && (sweep || !flags); id++) {
@@ -214,6 +241,8 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
     } else if (st == TT_OK) {
         /* the touched nodes' records and blocks rewritten in the slack
          * layout (a compaction now and then: rt_dyn_sync) */
+        d->lanes_since = since;
+        d->lanes_trust = !d->must_repack && scene->stamp != NULL;
         st = rt_dyn_sync(d, ctx, t, scene);
         if (st == TT_OK) d->must_repack = 0;
     }
