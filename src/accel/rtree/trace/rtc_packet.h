@@ -42,10 +42,7 @@
  *  - Occlusion packets are runs of at most PK_OCC_CHUNK consecutive rays of
  *    an octant: shadow rays come in image order, and a shorter run's
  *    origins bound more tightly, so the interval test culls more; their
- *    active rays fit one 32-bit mask (rtc_pk_walk_occ). A node reached by
- *    at most PK_OCC_ALONE live rays of such a packet sends each on alone
- *    through its subtree (rtc_pk_lane_occ: SIMD across a node's children,
- *    as the single-ray kernel; the hybrid point of packet traversals).
+ *    active rays fit one 32-bit mask (rtc_pk_walk_occ).
  *
  * The including unit defines PK_L, the vector macros PK_* (see
  * rtc_packet_avx512.c), RTC_ISA, RTC_BLOCKS_INTERSECT / _OCCLUDED (the
@@ -84,14 +81,6 @@
 #define PK_OCC_CHUNK 32u
 #endif
 #define PK_CHUNK (any ? PK_OCC_CHUNK : PK_N)
-/* An occlusion packet's node visited by at most this many live rays sends
- * them on alone through its subtree (rtc_pk_lane_occ). Callgrind, 256^2
- * shadow rays of the seven shared views, packets on: 4 cut 4.4-8.2% of the
- * instructions (Cornell +0.8%); on Sibenik 1, 2, 4, 8 cut 2.5, 4.0, 5.4,
- * 3.4% (2026-12-06, rpk note). */
-#ifndef PK_OCC_ALONE
-#define PK_OCC_ALONE 4u
-#endif
 
 /* One packet of rays of one octant, structure of arrays, PK_G groups of
  * PK_L lanes; lanes past n repeat ray 0 and are never active. */
@@ -660,104 +649,6 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
     }
 }
 
-/* One lane of an occlusion packet alone through the subtree of node (at
- * level), as a single ray (the hybrid point of rtc_pk_walk_occ: with few
- * lanes left a visit's interval test, per-child broadcasts and per-group
- * tests are shared by almost no rays). The lane's box test is
- * pk_child_occ_wide's operations in its order, transposed (the lane's rows
- * broadcast, S children a step), so it keeps the boxes the packet's test
- * keeps for this ray, and more (no interval test: it only drops boxes
- * that every ray misses); the children go near to far by the lane's own
- * entry, as the single-ray kernel's; leaves' blocks go to the single-ray
- * block kernel, each block once a level-1 node (rtc_trace_leaf.h). Any
- * triangle that hits the ray in range lies in a box this test keeps, and
- * is tested by the single-ray kernel: the answer is the single ray's.
- * Returns 1 when the lane is occluded. */
-TT_RT_INLINE int TT_VARIANT(RTC_FN(rtc_pk_lane_occ))(const tt_rtc *TT_RESTRICT t, const uint32_t S,
-                                                     pk_rays *P, uint32_t l, uint32_t node,
-                                                     uint32_t level, const uint32_t nr[3],
-                                                     const uint32_t fr[3], tt_packet_stats *stats)
-{
-    const pk_v ox = PK_SET1(P->ox[l]), oy = PK_SET1(P->oy[l]), oz = PK_SET1(P->oz[l]);
-    const pk_v rx = PK_SET1(P->rx[l]), ry = PK_SET1(P->ry[l]), rz = PK_SET1(P->rz[l]);
-    const pk_v fx = PK_SET1(P->fx[l]), fy = PK_SET1(P->fy[l]), fz = PK_SET1(P->fz[l]);
-    const pk_v tmin = PK_SET1(P->tmin[l]), tcf = PK_SET1(P->tcf[l]), pad = PK_SET1(P->pad[l]);
-    uint32_t st_node[PK_STACK];
-    uint8_t st_level[PK_STACK];
-    uint32_t sp = 0;
-    (void)stats;
-    for (;;) {
-        const float *rec = tt_rtc_node(t, node);
-        const float *box = tt_rtc_boxes(rec);
-        const uint32_t *child = tt_rtc_child(t, rec);
-        float tb[TT_RT_MAX_M];
-        uint32_t mask = 0;
-        TT_COUNT(stats, rays.nodes, 1);
-        TT_COUNT(stats, rays.interior, 1);
-        TT_COUNT(stats, rays.boxes, tt_rtc_count(t, rec));
-        for (uint32_t i = 0; i < S; i += PK_L) {
-            const pk_v tnx = PK_MUL(PK_SUB(PK_LOADU(box + nr[0] + i), ox), rx);
-            const pk_v tny = PK_MUL(PK_SUB(PK_LOADU(box + nr[1] + i), oy), ry);
-            const pk_v tnz = PK_MUL(PK_SUB(PK_LOADU(box + nr[2] + i), oz), rz);
-            const pk_v tfx = PK_MUL(PK_SUB(PK_LOADU(box + fr[0] + i), ox), fx);
-            const pk_v tfy = PK_MUL(PK_SUB(PK_LOADU(box + fr[1] + i), oy), fy);
-            const pk_v tfz = PK_MUL(PK_SUB(PK_LOADU(box + fr[2] + i), oz), fz);
-            const pk_v tn = PK_MAX(tnz, PK_MAX(tny, PK_MAX(tnx, tmin)));
-            const pk_v tc = PK_MIN(tfz, PK_MIN(tfy, PK_MIN(tfx, tcf)));
-            mask |= PK_BITS(PK_CMP_LE(tn, PK_ADD(tc, pad))) << i;
-            PK_STOREU(tb + i, tn);
-        }
-        mask &= tt_rtc_used(t, rec);
-        uint32_t k = 0, ord[TT_RT_MAX_M];
-        float ot[TT_RT_MAX_M];
-        while (mask) {
-            const uint32_t i = (uint32_t)__builtin_ctz(mask);
-            mask &= mask - 1;
-            const float ti = tb[i];
-            uint32_t j = k++;
-            while (j > 0 && ot[j - 1] > ti) {
-                ot[j] = ot[j - 1];
-                ord[j] = ord[j - 1];
-                j--;
-            }
-            ot[j] = ti;
-            ord[j] = i;
-        }
-        if (k && level == 1) {
-            const uint32_t base = tt_rtc_leaf_block(child[0]);
-            uint64_t seen = 0;
-            for (uint32_t j = 0; j < k; j++) {
-                const uint32_t ref = child[ord[j]];
-                uint32_t nb;
-                const tt_tri_block *b = tt_rtc_leaf_blocks(t, ref, &nb);
-                const uint32_t off = tt_rtc_leaf_block(ref) - base;
-                TT_COUNT(stats, rays.nodes, 1);
-                TT_COUNT(stats, rays.leaves, 1);
-                for (uint32_t q = 0; q < nb; q++) {
-                    const uint64_t bit = (uint64_t)1 << (off + q);
-                    if (seen & bit) continue;
-                    seen |= bit;
-                    TT_COUNT(stats, rays.triangles, TT_TRI_BLOCK_W);
-                    if (RTC_BLOCKS_OCCLUDED(pk_wray(P, l), b + q, 1, P->t[l])) return 1;
-                }
-            }
-        } else if (k) {
-            for (uint32_t j = k - 1; j > 0; j--) {
-                st_node[sp] = child[ord[j]];
-                st_level[sp] = (uint8_t)(level - 1);
-                sp++;
-            }
-            node = child[ord[0]];
-            level--;
-            continue;
-        }
-        if (!sp) return 0;
-        sp--;
-        node = st_node[sp];
-        level = st_level[sp];
-    }
-}
-
 /* Occlusion packets are at most 32 rays (PK_OCC_CHUNK): their active rays
  * fit one 32-bit mask, bit l for lane l (group g's lanes at g * PK_L), so
  * the walk's bookkeeping is word operations: a node's live rays, a
@@ -785,22 +676,6 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk_occ))(const tt_rtc *TT_RESTRICT 
         /* rays answered since this entry was pushed drop out */
         m &= ~done;
         if (!m) goto pop;
-        if (wide && pk_popcount(m) <= PK_OCC_ALONE) {
-            /* the hybrid point: the few lanes left go alone through this
-             * subtree (rtc_pk_lane_occ); the probe's counts (node_visits,
-             * active_lanes: what packets_pay judges) stay the packet's
-             * own visits */
-            for (uint32_t b = m; b; b &= b - 1) {
-                const uint32_t l = (uint32_t)__builtin_ctz(b);
-                if (TT_VARIANT(RTC_FN(rtc_pk_lane_occ))(t, S, P, l, node, level, A.nr, A.fr,
-                                                        stats)) {
-                    done |= 1u << l;
-                    P->done[l / PK_L] |= 1u << (l % PK_L);
-                }
-            }
-            if (!(valid & ~done)) return;
-            goto pop;
-        }
         {
             const float *rec = tt_rtc_node(t, node);
             const float *box = tt_rtc_boxes(rec); /* SoA rows, stride S */
