@@ -619,11 +619,8 @@ typedef struct tt_render_options {
     tt_device device;       /* default TT_DEVICE_CPU                          */
     /* TT_PACKETS_AUTO (default): a structure with packet traversal traces
      * each tile's primary rays, and its shadow rays when they are coherent
-     * (within a cone, or ending together at the light), as one packet,
-     * unless the structure, asked now and then as the batch calls ask it,
-     * says its packets lose on these rays; TT_PACKETS_OFF ray by ray;
-     * TT_PACKETS_ON packets always. The image and hit buffer do not depend
-     * on it. */
+     * (within a cone, or ending together at the light), as one packet; TT_PACKETS_OFF ray by ray; TT_PACKETS_ON
+     * packets always. The image and hit buffer do not depend on it. */
     uint32_t packets;
 } tt_render_options;
 

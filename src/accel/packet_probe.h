@@ -1,6 +1,13 @@
 /* The structure's word on packets (vt->packets_pay), asked now and then
- * while a thread traces coherent items: the batch calls (batch.c) and the
- * renderer's shadow tiles (render/trace_tile.h) follow the same rule.
+ * while a thread of a batch call (batch.c) traces coherent items.
+ *
+ * Which items a thread probes depends on which items it met before, so
+ * under auto the packet counts (and the choice between packets and single
+ * rays where a structure says no) can differ from run to run; the answers
+ * never do. The renderer does not probe: its counting pass must give the
+ * same counts every run (a frame's statistics are compared between runs,
+ * test_accel_io), and a per-thread probe made them depend on the tiles'
+ * schedule.
  *
  * A coherent item is now and then traced by the counting packet variant
  * and its counts judged; the items between follow the last answer. The gap

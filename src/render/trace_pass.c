@@ -3,7 +3,6 @@
  * checks per ray, unlike the public tt_intersect1). */
 #include <string.h>
 
-#include "accel/packet_probe.h"
 #include "accel/packets.h"
 #include "render/frame.h"
 
@@ -52,54 +51,48 @@ static void packet_stats_add(tt_packet_stats *sum, const tt_packet_stats *s)
 
 static long tile_count(const tt_frame *f) { return (long)f->tiles_x * (long)f->tiles_y; }
 
-typedef void (*tile_fn)(tt_frame *f, uint32_t tile, tt_ray_stats *sum, tt_packet_probe *pp);
-
-/* The tiles (the list, or NULL: tiles 0 .. n-1) traced by fn on the frame's
- * threads. Each thread asks the structure about packets through its own
- * probe (packet_probe.h; closest: primary rays), as a batch call's threads
- * do, and, in the counting passes (sum given), sums into its own
- * tt_ray_stats (no sharing of counters in the hot loop), added to *sum
- * once at the end. A call through a pointer a tile costs nothing beside
- * its 256 rays, so one loop serves every pass. */
-static void trace_tiles(tt_frame *f, const uint32_t *tiles, long n, tile_fn fn, int closest,
-                        tt_ray_stats *sum)
-{
-#pragma omp parallel num_threads(f->threads)
-    {
-        tt_ray_stats local;
-        memset(&local, 0, sizeof local);
-        tt_packet_probe pp;
-        tt_packet_probe_init(&pp, f->accel, closest);
-#pragma omp for schedule(dynamic)
-        for (long i = 0; i < n; i++)
-            fn(f, tiles ? tiles[i] : (uint32_t)i, sum ? &local : NULL, &pp);
-        if (sum) {
-#pragma omp critical(tt_render_stats_reduce)
-            tt_ray_stats_add(sum, &local);
-        }
-    }
-}
-
 void tt_frame_trace_primary(tt_frame *f)
 {
-    trace_tiles(f, NULL, tile_count(f), primary_tile, 1, NULL);
+    const long n = tile_count(f);
+#pragma omp parallel for schedule(dynamic) num_threads(f->threads)
+    for (long tile = 0; tile < n; tile++) primary_tile(f, (uint32_t)tile, NULL);
 }
 
 void tt_frame_trace_shadow(tt_frame *f)
 {
-    trace_tiles(f, NULL, tile_count(f), shadow_tile, 0, NULL);
+    const long n = tile_count(f);
+#pragma omp parallel for schedule(dynamic) num_threads(f->threads)
+    for (long tile = 0; tile < n; tile++) shadow_tile(f, (uint32_t)tile, NULL);
+}
+
+typedef void (*stats_tile_fn)(tt_frame *f, uint32_t tile, tt_ray_stats *sum);
+
+/* Each thread sums into its own tt_ray_stats (no sharing of counters in the
+ * hot loop) and adds it to *sum once at the end. The counting passes are not
+ * the timed ones, so one loop serves both ray kinds through a pointer. */
+static void trace_stats(tt_frame *f, stats_tile_fn tile_fn, tt_ray_stats *sum)
+{
+    const long n = tile_count(f);
+    memset(sum, 0, sizeof *sum);
+#pragma omp parallel num_threads(f->threads)
+    {
+        tt_ray_stats local;
+        memset(&local, 0, sizeof local);
+#pragma omp for schedule(dynamic)
+        for (long tile = 0; tile < n; tile++) tile_fn(f, (uint32_t)tile, &local);
+#pragma omp critical(tt_render_stats_reduce)
+        tt_ray_stats_add(sum, &local);
+    }
 }
 
 void tt_frame_trace_primary_stats(tt_frame *f, tt_ray_stats *sum)
 {
-    memset(sum, 0, sizeof *sum);
-    trace_tiles(f, NULL, tile_count(f), primary_tile_stats, 1, sum);
+    trace_stats(f, primary_tile_stats, sum);
 }
 
 void tt_frame_trace_shadow_stats(tt_frame *f, tt_ray_stats *sum)
 {
-    memset(sum, 0, sizeof *sum);
-    trace_tiles(f, NULL, tile_count(f), shadow_tile_stats, 0, sum);
+    trace_stats(f, shadow_tile_stats, sum);
 }
 
 /* ---- tiles of a frame traced in parts (frame.h; the MPI renderer) ---- */
@@ -112,18 +105,36 @@ void tt_frame_tile_rect(const tt_frame *f, uint32_t tile, uint32_t *x0, uint32_t
     tile_bounds(f, tile, x0, y0, x1, y1);
 }
 
+static void trace_list_stats(tt_frame *f, const uint32_t *tiles, long n, stats_tile_fn fn,
+                             tt_ray_stats *sum)
+{
+#pragma omp parallel num_threads(f->threads)
+    {
+        tt_ray_stats local;
+        memset(&local, 0, sizeof local);
+#pragma omp for schedule(dynamic)
+        for (long i = 0; i < n; i++) fn(f, tiles[i], &local);
+#pragma omp critical(tt_render_stats_reduce)
+        tt_ray_stats_add(sum, &local);
+    }
+}
+
 void tt_frame_trace_tiles(tt_frame *f, const uint32_t *tiles, uint32_t count, int shadows,
                           tt_ray_stats *counts, double *times)
 {
     const long n = (long)count;
     if (counts) {
-        trace_tiles(f, tiles, n, primary_tile_stats, 1, &counts[0]);
-        if (shadows) trace_tiles(f, tiles, n, shadow_tile_stats, 0, &counts[1]);
+        trace_list_stats(f, tiles, n, primary_tile_stats, &counts[0]);
+        if (shadows) trace_list_stats(f, tiles, n, shadow_tile_stats, &counts[1]);
     }
     double t0 = tt_now();
-    trace_tiles(f, tiles, n, primary_tile, 1, NULL);
+#pragma omp parallel for schedule(dynamic) num_threads(f->threads)
+    for (long i = 0; i < n; i++) primary_tile(f, tiles[i], NULL);
     double t1 = tt_now();
-    if (shadows) trace_tiles(f, tiles, n, shadow_tile, 0, NULL);
+    if (shadows) {
+#pragma omp parallel for schedule(dynamic) num_threads(f->threads)
+        for (long i = 0; i < n; i++) shadow_tile(f, tiles[i], NULL);
+    }
     times[0] += t1 - t0;
     times[1] += tt_now() - t1;
 }

@@ -4,14 +4,12 @@
  * two must trace exactly the same rays, so they share this one text.
  * Included only by trace_pass.c, which defines tile_bounds (tt_ray_stats_add is accel/accel.h's). */
 
-/* Primary rays of one tile as one packet (a camera tile is coherent), with
- * packets on, or under auto while the structure's word (pp, packet_probe.h)
- * holds that they pay; returns 0, tracing nothing, where it does not. The
- * packet has no end hints: the shadow rays start at the root. The counting
- * variant adds the rays' counts to *sum and the packet counts to the
- * frame's. */
-static int TT_VARIANT(primary_packet)(tt_frame *f, uint32_t x0, uint32_t y0, uint32_t x1,
-                                      uint32_t y1, tt_ray_stats *sum, tt_packet_probe *pp)
+/* Primary rays of one tile as one packet (a camera tile is coherent: auto
+ * and on alike). The packet has no end hints: the shadow rays start at the
+ * root. The counting variant adds the rays' counts to *sum and the packet
+ * counts to the frame's. */
+static void TT_VARIANT(primary_packet)(tt_frame *f, uint32_t x0, uint32_t y0, uint32_t x1,
+                                       uint32_t y1, tt_ray_stats *sum)
 {
     const tt_accel *accel = f->accel;
     tt_packet_rays w;
@@ -23,30 +21,17 @@ static int TT_VARIANT(primary_packet)(tt_frame *f, uint32_t x0, uint32_t y0, uin
             tt_camera_basis_ray(&f->basis, x, y, &r);
             tt_packet_ray_set(&w, n++, r.org, r.dir, r.tmin, r.tmax);
         }
-    if (n == 0) return 1; /* (a tile is never empty; this tells the compiler) */
+    if (n == 0) return; /* (a tile is never empty; this tells the compiler) */
     w.n = n;
-    int packet = 1;
 #if TT_STATS
     tt_packet_stats ps;
     memset(&ps, 0, sizeof ps);
-    if (f->packets == TT_PACKETS_AUTO && tt_packet_probe_trace(pp, accel, &w, h, NULL, &packet, &ps)) {
-        /* traced by the probe */
-    } else if (packet) {
-        accel->vt->intersect_packet_stats(accel, &w, h, &ps);
-    } else {
-        return 0;
-    }
+    accel->vt->intersect_packet_stats(accel, &w, h, &ps);
     tt_ray_stats_add(sum, &ps.rays);
     packet_stats_add(&f->packet_primary, &ps);
 #else
     (void)sum;
-    if (f->packets == TT_PACKETS_AUTO && tt_packet_probe_trace(pp, accel, &w, h, NULL, &packet, NULL)) {
-        /* traced by the probe */
-    } else if (packet) {
-        accel->vt->intersect_packet(accel, &w, h);
-    } else {
-        return 0;
-    }
+    accel->vt->intersect_packet(accel, &w, h);
 #endif
     n = 0;
     for (uint32_t y = y0; y < y1; y++)
@@ -56,12 +41,10 @@ static int TT_VARIANT(primary_packet)(tt_frame *f, uint32_t x0, uint32_t y0, uin
             f->t[i] = h[n].prim == TT_INVALID_ID ? TT_INF : h[n].t;
             f->end_hint[i] = TT_INVALID_ID;
         }
-    return 1;
 }
 
 /* Primary rays of one tile, all started from the eye's hint. */
-static void TT_VARIANT(primary_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *sum,
-                                    tt_packet_probe *pp)
+static void TT_VARIANT(primary_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *sum)
 {
     const tt_accel *accel = f->accel;
     const tt_accel_vtable *vt = accel->vt;
@@ -69,9 +52,10 @@ static void TT_VARIANT(primary_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *s
     tile_bounds(f, tile, &x0, &y0, &x1, &y1);
     (void)sum;
     /* per-pixel counts need each ray's own walk */
-    if (f->packets != TT_PACKETS_OFF && !(TT_STATS && f->pixel_stats[TT_HEAT_NODES]) &&
-        TT_VARIANT(primary_packet)(f, x0, y0, x1, y1, sum, pp))
+    if (f->packets != TT_PACKETS_OFF && !(TT_STATS && f->pixel_stats[TT_HEAT_NODES])) {
+        TT_VARIANT(primary_packet)(f, x0, y0, x1, y1, sum);
         return;
+    }
     for (uint32_t y = y0; y < y1; y++) {
         for (uint32_t x = x0; x < x1; x++) {
             size_t i = (size_t)y * f->width + x;
@@ -105,8 +89,7 @@ static void TT_VARIANT(primary_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *s
  * searches that caster's box first. The caster is forgotten at every tile
  * so that the result does not depend on which thread traced which tile
  * before. */
-static void TT_VARIANT(shadow_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *sum,
-                                   tt_packet_probe *pp)
+static void TT_VARIANT(shadow_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *sum)
 {
     const tt_accel *accel = f->accel;
     const tt_accel_vtable *vt = accel->vt;
@@ -116,8 +99,7 @@ static void TT_VARIANT(shadow_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *su
     (void)sum;
     if (f->packets != TT_PACKETS_OFF && !f->caster_hint) {
         /* the tile's shadow rays towards the light: one packet when
-         * coherent and the structure's word (pp) holds that packets pay
-         * (or always with TT_PACKETS_ON), else ray by ray */
+         * coherent (or always with TT_PACKETS_ON), else ray by ray */
         tt_packet_rays w;
         uint8_t occ[TT_TILE * TT_TILE];
         uint32_t idx[TT_TILE * TT_TILE], hint[TT_TILE * TT_TILE];
@@ -136,22 +118,10 @@ static void TT_VARIANT(shadow_tile)(tt_frame *f, uint32_t tile, tt_ray_stats *su
                 idx[n++] = (uint32_t)i;
             }
         w.n = n;
-        int packet = f->packets == TT_PACKETS_ON || tt_packet_coherent(&w);
+        if (f->packets == TT_PACKETS_ON || tt_packet_coherent(&w)) {
 #if TT_STATS
-        tt_packet_stats ps;
-        memset(&ps, 0, sizeof ps);
-        tt_packet_stats *const probe_sum = &ps;
-#else
-        tt_packet_stats *const probe_sum = NULL;
-#endif
-        if (packet && f->packets == TT_PACKETS_AUTO &&
-            tt_packet_probe_trace(pp, accel, &w, NULL, occ, &packet, probe_sum)) {
-#if TT_STATS
-            tt_ray_stats_add(sum, &ps.rays);
-            packet_stats_add(&f->packet_shadow, &ps);
-#endif
-        } else if (packet) {
-#if TT_STATS
+            tt_packet_stats ps;
+            memset(&ps, 0, sizeof ps);
             vt->occluded_packet_stats(accel, &w, occ, &ps);
             tt_ray_stats_add(sum, &ps.rays);
             packet_stats_add(&f->packet_shadow, &ps);

@@ -6,8 +6,7 @@
  * TT_PACKETS_ON), ambient-occlusion rays take none, and either way the
  * answers are the single rays' (TT_PACKETS_OFF). The structure's word
  * (vt->packets_pay): the R-tree's rule on probe counts, and the batch
- * and the renderer following a structure that says packets never or always
- * pay. */
+ * following a structure that says packets never or always pay. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -388,74 +387,6 @@ static void batch_follows_word(tt_accel *a, const tt_ray *rays, size_t n, const 
     free(got);
 }
 
-/* The renderer follows the structure's word as the batch calls do (each
- * thread's probe over its tiles, render/trace_pass.c): a structure that
- * says packets never pay gets under auto only the probes' packets, for
- * primary and for shadow rays, one that says they always do gets those of
- * a structure without a word (the geometric rule alone: a tile of shadow
- * rays that fan out goes ray by ray either way); the hit buffer is the
- * single rays' always. */
-static const tt_render_summary *render_with(tt_context *ctx, const tt_scene *scene,
-                                            const tt_accel *a, const tt_camera *cam,
-                                            uint32_t packets, tt_render_result **r)
-{
-    tt_render_options ro;
-    tt_render_options_default(&ro);
-    ro.width = ro.height = 2 * SIZE;
-    ro.stats = 1;
-    ro.keep_hits = 1;
-    ro.packets = packets;
-    CHECK(tt_render(ctx, scene, a, cam, &ro, r) == TT_OK);
-    return tt_render_get_summary(*r);
-}
-static void render_follows_word(tt_context *ctx, const tt_scene *scene, const tt_camera *cam,
-                                tt_accel *a, const char *view)
-{
-    const tt_accel_vtable *own = a->vt;
-    tt_accel_vtable never = *own, always = *own, mute = *own;
-    never.packets_pay = pay_never;
-    always.packets_pay = pay_always;
-    mute.packets_pay = NULL;
-    tt_render_result *ref, *on, *geo, *got;
-    size_t nref, ngot;
-    render_with(ctx, scene, a, cam, TT_PACKETS_OFF, &ref);
-    const tt_render_summary *son = render_with(ctx, scene, a, cam, TT_PACKETS_ON, &on);
-    a->vt = &mute;
-    const tt_render_summary *sgeo = render_with(ctx, scene, a, cam, TT_PACKETS_AUTO, &geo);
-    const uint8_t *href = tt_render_hits(ref, &nref);
-    CHECK_MSG(son->primary_packets.packets > 0 && son->shadow_packets.packets > 0,
-              "%s: the renderer traced %llu primary and %llu shadow packets with packets on", view,
-              (unsigned long long)son->primary_packets.packets,
-              (unsigned long long)son->shadow_packets.packets);
-    for (int w = 0; w < 2; w++) {
-        a->vt = w ? &always : &never;
-        const tt_render_summary *s = render_with(ctx, scene, a, cam, TT_PACKETS_AUTO, &got);
-        const uint8_t *hgot = tt_render_hits(got, &ngot);
-        CHECK_MSG(ngot == nref && memcmp(hgot, href, nref) == 0,
-                  "%s pay %d: the rendered hit buffer differs from single rays'", view, w);
-        const tt_packet_counts *kinds[2][3] = {
-            {&s->primary_packets, &son->primary_packets, &sgeo->primary_packets},
-            {&s->shadow_packets, &son->shadow_packets, &sgeo->shadow_packets}};
-        for (int k = 0; k < 2; k++) {
-            const unsigned long long pk = kinds[k][0]->packets, onk = kinds[k][1]->packets,
-                                     geok = kinds[k][2]->packets;
-            if (w)
-                CHECK_MSG(pk == geok && kinds[k][0]->node_visits == kinds[k][2]->node_visits,
-                          "%s render %s: packets paying traced %llu packets, without a word %llu",
-                          view, k ? "shadow" : "primary", pk, geok);
-            else
-                CHECK_MSG(pk > 0 && pk * 2 < onk,
-                          "%s render %s: packets never paying traced %llu packets, on %llu",
-                          view, k ? "shadow" : "primary", pk, onk);
-        }
-        tt_render_result_destroy(got);
-    }
-    a->vt = own;
-    tt_render_result_destroy(geo);
-    tt_render_result_destroy(on);
-    tt_render_result_destroy(ref);
-}
-
 static void scene_view(tt_context *ctx, const char *file, const char *view)
 {
     tt_scene *scene = tt_test_load_scene(ctx, file);
@@ -476,7 +407,6 @@ static void scene_view(tt_context *ctx, const char *file, const char *view)
         snprintf(what, sizeof what, "%s %s ambient occlusion", view, accels[s]);
         batch_modes(a, ao, na, 0, what);
         batch_follows_word(a, shadow, ns, view);
-        render_follows_word(ctx, scene, &cam, a, view);
         if (a != ref) tt_accel_destroy(a);
     }
     free(shadow);
