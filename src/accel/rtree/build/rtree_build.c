@@ -538,19 +538,25 @@ static int greedy_pick(const float *area, const float *d, int cnt)
     for (int i = 0; i < cnt; i += 4) lo = _mm_min_ps(_mm_loadu_ps(d + i), lo);
     lo = _mm_min_ps(lo, _mm_shuffle_ps(lo, lo, _MM_SHUFFLE(1, 0, 3, 2)));
     lo = _mm_min_ps(lo, _mm_shuffle_ps(lo, lo, _MM_SHUFFLE(2, 3, 0, 1)));
-    /* among the least growths, the least area */
-    const __m128 inf = _mm_set1_ps(TT_INF);
+    /* among the least growths, the least area; only the entries' lanes:
+     * where every growth is +inf (boxes whose areas overflow a float) the
+     * spare lanes' +inf equals the least too, and their areas are the
+     * pool's leftovers */
+    const __m128 inf = _mm_set1_ps(TT_INF), lane = _mm_setr_ps(0.0f, 1.0f, 2.0f, 3.0f);
+    const __m128 count = _mm_set1_ps((float)cnt);
     __m128 la = inf;
     for (int i = 0; i < cnt; i += 4) {
-        const __m128 eq = _mm_cmpeq_ps(_mm_loadu_ps(d + i), lo);
+        const __m128 live = _mm_cmplt_ps(_mm_add_ps(lane, _mm_set1_ps((float)i)), count);
+        const __m128 eq = _mm_and_ps(live, _mm_cmpeq_ps(_mm_loadu_ps(d + i), lo));
         la = _mm_min_ps(_mm_or_ps(_mm_and_ps(eq, _mm_loadu_ps(area + i)), _mm_andnot_ps(eq, inf)),
                         la);
     }
     la = _mm_min_ps(la, _mm_shuffle_ps(la, la, _MM_SHUFFLE(1, 0, 3, 2)));
     la = _mm_min_ps(la, _mm_shuffle_ps(la, la, _MM_SHUFFLE(2, 3, 0, 1)));
     for (int i = 0; i < cnt; i += 4) {
-        const int hit = _mm_movemask_ps(_mm_and_ps(_mm_cmpeq_ps(_mm_loadu_ps(d + i), lo),
-                                                   _mm_cmpeq_ps(_mm_loadu_ps(area + i), la)));
+        const int live = cnt - i >= 4 ? 0xf : (1 << (cnt - i)) - 1;
+        const int hit = live & _mm_movemask_ps(_mm_and_ps(_mm_cmpeq_ps(_mm_loadu_ps(d + i), lo),
+                                                          _mm_cmpeq_ps(_mm_loadu_ps(area + i), la)));
         if (hit) return i + __builtin_ctz((unsigned)hit);
     }
 #endif
