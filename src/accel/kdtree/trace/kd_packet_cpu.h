@@ -9,22 +9,22 @@
 
 /* rays->n <= TT_PACKET_MAX rows, traced with HTR as packets: closest hits
  * into hits (any = 0) or occlusion bytes into occ (any = 1), each equal to
- * the single-ray HTR's bit for bit. B is the tree's block view (kd_blocks.h:
- * its leaves' triangles as blocks, which the packets test), T the tree's
+ * the single-ray HTR's bit for bit. T is the tree's block view (kd_blocks.h:
+ * its leaves' triangles as blocks, which the packets test), V the tree's
  * own view (the counting variant's single-ray fallback walks it). The
  * _stats forms count into *stats. */
-typedef void (*tt_kd_packet_fn)(const tt_kd_view *B, const tt_kd_view *T,
+typedef void (*tt_kd_packet_fn)(const tt_kd_view *T, const tt_kd_view *V,
                                 const tt_packet_rays *rays, int any, tt_hit *hits, uint8_t *occ,
                                 tt_packet_stats *stats);
 
 #if defined(TT_HAVE_X86_KERNELS)
-void tt_kd_packet_avx2(const tt_kd_view *B, const tt_kd_view *T, const tt_packet_rays *rays, int any,
+void tt_kd_packet_avx2(const tt_kd_view *T, const tt_kd_view *V, const tt_packet_rays *rays, int any,
                        tt_hit *hits, uint8_t *occ, tt_packet_stats *stats);
-void tt_kd_packet_avx2_stats(const tt_kd_view *B, const tt_kd_view *T, const tt_packet_rays *rays, int any,
+void tt_kd_packet_avx2_stats(const tt_kd_view *T, const tt_kd_view *V, const tt_packet_rays *rays, int any,
                              tt_hit *hits, uint8_t *occ, tt_packet_stats *stats);
-void tt_kd_packet_avx512(const tt_kd_view *B, const tt_kd_view *T, const tt_packet_rays *rays, int any,
+void tt_kd_packet_avx512(const tt_kd_view *T, const tt_kd_view *V, const tt_packet_rays *rays, int any,
                          tt_hit *hits, uint8_t *occ, tt_packet_stats *stats);
-void tt_kd_packet_avx512_stats(const tt_kd_view *B, const tt_kd_view *T, const tt_packet_rays *rays, int any,
+void tt_kd_packet_avx512_stats(const tt_kd_view *T, const tt_kd_view *V, const tt_packet_rays *rays, int any,
                                tt_hit *hits, uint8_t *occ, tt_packet_stats *stats);
 #endif
 
