@@ -433,6 +433,20 @@ static uint32_t root_events(const kd_builder *b, const tt_aabb *root, uint64_t *
 #define ROOT_CHUNK_MIN 16384u
 #define ROOT_CHUNKS_MAX 32
 
+/* Axis k's run of the root's events: the chunks' parts (2 n events apart
+ * at first) moved together, down in chunk order, then sorted with t as
+ * the radix sort's scratch. */
+static void sort_axis(uint64_t *run, uint64_t *t, size_t count[][3], int chunks, uint32_t n, int k)
+{
+    size_t len = count[0][k];
+    for (int c = 1; c < chunks; c++) {
+        const size_t first = (size_t)((uint64_t)n * (uint64_t)c / (uint64_t)chunks);
+        memmove(run + len, run + 2 * first, count[c][k] * sizeof *run);
+        len += count[c][k];
+    }
+    kd_radix_sort_events(run, t, len);
+}
+
 /* The root's event lists: each axis' run sorted, axis k's at block +
  * 2 n k. With `tasks` (inside a parallel region) the events are generated
  * by a task per chunk of triangles and each axis is sorted by a task of
@@ -470,34 +484,35 @@ static uint32_t root_lists(const kd_builder *b, const tt_aabb *root, nl_lists *l
      * alone. par_build's rule for sweeping a node, decided here for the
      * root (nothing can have aborted yet). */
     *swept = ax && m >= kd_par_cutoff && b->max_depth > 0;
-    char sorted[3]; /* what the depend clauses name (only its addresses) */
-    (void)sorted;
     for (int k = 0; k < 3; k++) {
-        uint64_t *run = block + 2 * (size_t)n * k, *t = tmp + (tasks ? 2 * (size_t)n * k : 0);
         lists->n[k] = 0;
         for (int c = 0; c < chunks; c++) lists->n[k] += count[c][k];
-#pragma omp task firstprivate(run, t, k) shared(count) depend(out : sorted[k]) if (tasks)
-        {
-            /* Axis runs of 2 n events each at first; the chunks' parts
-             * are moved together (down, in chunk order), then sorted. */
-            size_t len = count[0][k];
-            for (int c = 1; c < chunks; c++) {
-                const size_t first = (size_t)((uint64_t)n * (uint64_t)c / (uint64_t)chunks);
-                memmove(run + len, run + 2 * first, count[c][k] * sizeof *run);
-                len += count[c][k];
-            }
-            kd_radix_sort_events(run, t, len);
-        }
     }
-    if (*swept)
+    if (!tasks) {
+        /* The serial build: no task constructs at all. An undeferred task
+         * with a depend clause (if (0)) makes libomp wait on dependences
+         * outside any parallel region, where LLVM 14's archer (the
+         * ThreadSanitizer OpenMP tool) dereferences a null task and
+         * crashes. */
+        for (int k = 0; k < 3; k++) sort_axis(block + 2 * (size_t)n * k, tmp, count, chunks, n, k);
+    } else {
+        char sorted[3]; /* what the depend clauses name (only its addresses) */
+        (void)sorted;
         for (int k = 0; k < 3; k++) {
-            const uint64_t *run = block + 2 * (size_t)n * k;
-            const size_t len = lists->n[k];
-            const kd_split none = {-1, 0.0f, 0, INFINITY, 0, 0};
-            ax[k] = none;
-#pragma omp task firstprivate(run, len, k) shared(ax) depend(in : sorted[k])
-            kd_sweep(b, run, len, m, root, k, &ax[k]);
+            uint64_t *run = block + 2 * (size_t)n * k, *t = tmp + 2 * (size_t)n * k;
+#pragma omp task firstprivate(run, t, k) shared(count) depend(out : sorted[k])
+            sort_axis(run, t, count, chunks, n, k);
         }
+        if (*swept)
+            for (int k = 0; k < 3; k++) {
+                const uint64_t *run = block + 2 * (size_t)n * k;
+                const size_t len = lists->n[k];
+                const kd_split none = {-1, 0.0f, 0, INFINITY, 0, 0};
+                ax[k] = none;
+#pragma omp task firstprivate(run, len, k) shared(ax) depend(in : sorted[k])
+                kd_sweep(b, run, len, m, root, k, &ax[k]);
+            }
+    }
 #pragma omp taskwait
     /* The runs stay where they are, 2 n apart: moving them together was
      * a serial copy of the whole root's events. */
