@@ -190,8 +190,10 @@ static void split_axis(const uint8_t *side_of, const uint64_t *ev, size_t n_ev, 
         const uint64_t e = ev[i];
         /* Few straddlers against many one-sided triangles: these loops
          * rarely run, and merging here spares a second pass over the
-         * children's lists. Keys are distinct (a straddler's events left
-         * the parent's list), so the order is the sorted one. */
+         * children's lists. A child's key equals a parent's event only
+         * where a straddler's re-clipped event kept its old position: the
+         * parent's event is then that straddler's own, which goes to
+         * neither side, so the order is the sorted one. */
         while (lnext < e) {
             ldst[nl++] = lnext;
             lnext = ++lc < lc_end ? *lc : UINT64_MAX;
