@@ -61,7 +61,7 @@ static void test_every_insertion(tt_context *ctx, const tt_scene *scene)
 }
 
 typedef struct stats_seen {
-    double triangles, M, height, nodes, leaves, slots, empty, memory, sah, fill0, level_nodes;
+    double triangles, M, height, nodes, leaves, slots, empty, memory, sah, fill0, level_nodes, level_sah;
     int keys;
 } stats_seen;
 
@@ -80,6 +80,7 @@ static void collect(void *user, const char *key, double v)
     else if (!strcmp(key, "sah_cost")) s->sah = v;
     else if (!strcmp(key, "level0_fill")) s->fill0 = v;
     if (!strncmp(key, "level", 5) && strstr(key, "_nodes")) s->level_nodes += v;
+    if (!strncmp(key, "level", 5) && strstr(key, "_sah")) s->level_sah += v;
 }
 
 /* The statistics describe the tree consistently: slot count of the complete
@@ -103,6 +104,18 @@ static void test_statistics(tt_context *ctx, const tt_scene *scene)
     CHECK(fabs(s.leaves * s.fill0 - s.triangles) < 1e-6 * s.triangles);
     CHECK(s.memory == (double)tt_accel_memory_bytes(a) && s.memory > 0);
     CHECK(s.sah > 1.0); /* the interior root alone costs 1 */
+    CHECK_MSG(fabs(s.level_sah - s.sah) <= 1e-9 * s.sah, "levels' SAH %g, sah_cost %g",
+              s.level_sah, s.sah);
+    tt_accel_destroy(a);
+    /* the compact layout (the default build): its levels' parts too */
+    a = NULL;
+    CHECK_OK(ctx, tt_accel_build(ctx, scene, NULL, &a));
+    if (!a) return;
+    memset(&s, 0, sizeof s);
+    CHECK_OK(ctx, tt_accel_statistics(a, collect, &s));
+    CHECK(s.sah > 1.0);
+    CHECK_MSG(fabs(s.level_sah - s.sah) <= 1e-9 * s.sah, "compact: levels' SAH %g, sah_cost %g",
+              s.level_sah, s.sah);
     tt_accel_destroy(a);
 }
 

@@ -2,8 +2,8 @@
  * leaf counts, fill per level, bytes per triangle and how full the triangle
  * blocks are (the lanes a leaf leaves unused cost memory and SIMD work),
  * and the tree-quality figures of rtree_stats.c, defined the same way
- * (sah_cost, sah_cost_boxes, leaf_fill, interior_fill), so the builders
- * compare in either layout. */
+ * (sah_cost, sah_cost_boxes, leaf_fill, interior_fill, levelL_sah), so
+ * the builders compare in either layout. */
 #include <stdio.h>
 #include <string.h>
 
@@ -11,7 +11,7 @@
 #include "accel/rtree/rtree_box.h"
 
 typedef struct acc {
-    double records, leaves, leaf_triangles, level_nodes[256], level_entries[256];
+    double records, leaves, leaf_triangles, level_nodes[256], level_entries[256], level_sah[256];
     double sah, sah_boxes, root_area;
 } acc;
 
@@ -30,6 +30,7 @@ static void visit(const tt_rtc *c, acc *a, uint32_t n, const float box[6])
     a->level_nodes[l] += 1.0;
     a->level_entries[l] += cnt;
     a->sah += rel_area(a, box);
+    a->level_sah[l] += rel_area(a, box);
     a->sah_boxes += rel_area(a, box) * cnt;
     for (uint32_t i = 0; i < cnt; i++) {
         float cb[6];
@@ -44,6 +45,7 @@ static void visit(const tt_rtc *c, acc *a, uint32_t n, const float box[6])
         a->leaf_triangles += cnt_leaf;
         a->level_entries[0] += cnt_leaf;
         a->sah += rel_area(a, cb) * cnt_leaf;
+        a->level_sah[0] += rel_area(a, cb) * cnt_leaf;
         a->sah_boxes += rel_area(a, cb) * cnt_leaf;
     }
 }
@@ -92,6 +94,8 @@ void rtc_statistics(const rtc_tree *t, tt_stat_fn fn, void *user)
         char key[64];
         snprintf(key, sizeof key, "level%u_nodes", l);
         fn(user, key, ap->level_nodes[l]);
+        snprintf(key, sizeof key, "level%u_sah", l);
+        fn(user, key, rc ? ap->level_sah[l] : 0.0);
         snprintf(key, sizeof key, "level%u_fill", l);
         fn(user, key, ap->level_nodes[l] > 0 ? ap->level_entries[l] / ap->level_nodes[l] : 0.0);
     }

@@ -15,7 +15,9 @@
  * levelL_overlap: the summed pairwise intersection volume of sibling boxes
  * (children of one node) on level L, relative to the root's volume — the
  * quantity the overlap-minimising strategies reduce; 0 when the root box is
- * flat. */
+ * flat. levelL_sah: level L's part of sah_cost (the levels' parts sum to
+ * it), which shows where a tree lost quality against another (an updated
+ * tree against a fresh build: tt_accel_update's deformations). */
 #include <stdio.h>
 #include <string.h>
 
@@ -23,7 +25,7 @@
 #include "accel/rtree/rtree_box.h"
 
 typedef struct level_stats {
-    double nodes, entries, overlap;
+    double nodes, entries, overlap, sah;
 } level_stats;
 
 typedef struct acc {
@@ -52,12 +54,14 @@ static void visit(acc *a, uint32_t n, uint32_t l)
         uint32_t cnt = p->leaf_start[j + 1] - p->leaf_start[j];
         ls->entries += cnt;
         a->sah += rel * cnt;
+        ls->sah += rel * cnt;
         a->sah_boxes += rel * cnt;
         return;
     }
     const uint32_t cnt = p->count[n], e = tt_rt_first_child(p, n, l);
     ls->entries += cnt;
     a->sah += rel;
+    ls->sah += rel;
     a->sah_boxes += rel * cnt;
     float cb[TT_RT_MAX_M][6];
     for (uint32_t i = 0; i < cnt; i++) {
@@ -109,6 +113,8 @@ void rt_statistics(const rt_tree *t, tt_stat_fn fn, void *user)
         const level_stats *ls = &a.level[l];
         snprintf(key, sizeof key, "level%u_nodes", l);
         fn(user, key, ls->nodes);
+        snprintf(key, sizeof key, "level%u_sah", l);
+        fn(user, key, ls->sah);
         snprintf(key, sizeof key, "level%u_fill", l);
         fn(user, key, ls->nodes > 0 ? ls->entries / ls->nodes : 0.0);
         snprintf(key, sizeof key, "level%u_overlap", l);
