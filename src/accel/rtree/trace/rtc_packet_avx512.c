@@ -51,6 +51,78 @@ typedef __mmask16 pk_m;
 #define RTC_SINGLE tt_rtc_stack_avx512
 #define RTC_SINGLE_STATS tt_rtc_stack_avx512_stats
 
+/* Two rays against one block of 8 triangles, a ray a 256-bit half of a
+ * 512-bit vector: the few-lane groups' leaf test (rtc_pk_block) for
+ * occlusion, two lanes a call where the single-ray block kernel took one.
+ * Each half runs tt_tri_blocks_occluded_avx2's operations on its ray
+ * (rows by the ray's own kx, ky, kz; no FMA in this unit), and a half with
+ * a zero edge function goes to the scalar block test as there, so each
+ * ray's answer is the single-ray kernel's. Bit h: ray h occluded. */
+static inline __m512 rtc_pair_set(float a, float b)
+{
+    return _mm512_mask_blend_ps(0xff00, _mm512_set1_ps(a), _mm512_set1_ps(b));
+}
+
+static inline uint32_t rtc_pair_occluded(const tt_wray *r0, const tt_wray *r1,
+                                         const tt_tri_block *b, float t0, float t1)
+{
+    const float(*v)[TT_TRI_BLOCK_W] = b->v;
+    const int k0[3] = {r0->kx, r0->ky, r0->kz}, k1[3] = {r1->kx, r1->ky, r1->kz};
+    __m512 row[9];
+    for (int i = 0; i < 9; i++)
+        row[i] = _mm512_insertf32x8(_mm512_castps256_ps512(_mm256_loadu_ps(v[i / 3 * 3 + k0[i % 3]])),
+                                    _mm256_loadu_ps(v[i / 3 * 3 + k1[i % 3]]), 1);
+    const __m512 ox = rtc_pair_set(r0->org[k0[0]], r1->org[k1[0]]);
+    const __m512 oy = rtc_pair_set(r0->org[k0[1]], r1->org[k1[1]]);
+    const __m512 oz = rtc_pair_set(r0->org[k0[2]], r1->org[k1[2]]);
+    const __m512 sx = rtc_pair_set(r0->sx, r1->sx), sy = rtc_pair_set(r0->sy, r1->sy);
+    const __m512 ax = _mm512_sub_ps(row[0], ox), ay = _mm512_sub_ps(row[1], oy),
+                 az = _mm512_sub_ps(row[2], oz);
+    const __m512 bx = _mm512_sub_ps(row[3], ox), by = _mm512_sub_ps(row[4], oy),
+                 bz = _mm512_sub_ps(row[5], oz);
+    const __m512 cx = _mm512_sub_ps(row[6], ox), cy = _mm512_sub_ps(row[7], oy),
+                 cz = _mm512_sub_ps(row[8], oz);
+    const __m512 Ax = _mm512_sub_ps(ax, _mm512_mul_ps(sx, az));
+    const __m512 Ay = _mm512_sub_ps(ay, _mm512_mul_ps(sy, az));
+    const __m512 Bx = _mm512_sub_ps(bx, _mm512_mul_ps(sx, bz));
+    const __m512 By = _mm512_sub_ps(by, _mm512_mul_ps(sy, bz));
+    const __m512 Cx = _mm512_sub_ps(cx, _mm512_mul_ps(sx, cz));
+    const __m512 Cy = _mm512_sub_ps(cy, _mm512_mul_ps(sy, cz));
+    const __m512 U = _mm512_sub_ps(_mm512_mul_ps(Cx, By), _mm512_mul_ps(Cy, Bx));
+    const __m512 V = _mm512_sub_ps(_mm512_mul_ps(Ax, Cy), _mm512_mul_ps(Ay, Cx));
+    const __m512 W = _mm512_sub_ps(_mm512_mul_ps(Bx, Ay), _mm512_mul_ps(By, Ax));
+    const __m512 zero = _mm512_setzero_ps();
+    const uint32_t z = (uint32_t)(_mm512_cmp_ps_mask(U, zero, _CMP_EQ_OQ) |
+                                  _mm512_cmp_ps_mask(V, zero, _CMP_EQ_OQ) |
+                                  _mm512_cmp_ps_mask(W, zero, _CMP_EQ_OQ));
+    /* the sign bits of (U^V)|(U^W): set where the signs differ */
+    const __m512 differ = _mm512_or_ps(_mm512_xor_ps(U, V), _mm512_xor_ps(U, W));
+    uint32_t cand = ~(uint32_t)_mm512_movepi32_mask(_mm512_castps_si512(differ)) & 0xffffu;
+    /* a half with a zero edge function: the scalar block test (as the
+     * single-ray kernel hands such a block over) */
+    uint32_t out = 0;
+    if (z & 0x00ffu) {
+        out |= (uint32_t)(tt_tri_blocks_occluded_scalar(r0, b, 1, t0) != 0);
+        cand &= 0xff00u;
+    }
+    if (z & 0xff00u) {
+        out |= (uint32_t)(tt_tri_blocks_occluded_scalar(r1, b, 1, t1) != 0) << 1;
+        cand &= 0x00ffu;
+    }
+    if (!cand) return out;
+    const __m512 sz = rtc_pair_set(r0->sz, r1->sz);
+    const __m512 det = _mm512_add_ps(_mm512_add_ps(U, V), W);
+    const __m512 T = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(U, _mm512_mul_ps(sz, az)),
+                                                 _mm512_mul_ps(V, _mm512_mul_ps(sz, bz))),
+                                   _mm512_mul_ps(W, _mm512_mul_ps(sz, cz)));
+    const __m512 t = _mm512_mul_ps(T, _mm512_div_ps(_mm512_set1_ps(1.0f), det));
+    const uint32_t in = (uint32_t)(_mm512_cmp_ps_mask(t, rtc_pair_set(r0->tmin, r1->tmin), _CMP_GE_OQ) &
+                                   _mm512_cmp_ps_mask(t, rtc_pair_set(t0, t1), _CMP_LT_OQ));
+    const uint32_t hit = cand & in;
+    return out | (uint32_t)((hit & 0x00ffu) != 0) | (uint32_t)((hit & 0xff00u) != 0) << 1;
+}
+#define RTC_OCC_PAIR rtc_pair_occluded
+
 #define TT_STATS 0
 #include "accel/stats_variant.h"
 #include "accel/rtree/trace/rtc_packet.h"
