@@ -382,6 +382,70 @@ static void check_arguments(tt_context *ctx, const tt_accel *accel, const tt_ray
               "message '%s'", tt_context_last_error(ctx));
 }
 
+/* Shadow rays of a camera's hits, in image order with the misses left out,
+ * the way a renderer hands them over (no image width): the batch finds
+ * their rows and cuts items along them (batch.c). Every answer is the
+ * single ray's, in the tt_ray form and in structure of arrays, packets
+ * automatic and on. */
+static void check_shadow_batch(tt_context *ctx, const tt_scene *scene, const tt_accel *accel,
+                               const tt_camera *cam, const char *what)
+{
+    const uint32_t w = 97, h = 61; /* a width no power of two */
+    const size_t n = (size_t)w * h;
+    tt_ray *rays = malloc(n * sizeof *rays), *sr = malloc(n * sizeof *sr);
+    tt_hit *hits = malloc(n * sizeof *hits);
+    uint8_t *occ = malloc(n), *want = malloc(n);
+    float *soa = malloc(8 * n * sizeof *soa);
+    if (!rays || !sr || !hits || !occ || !want || !soa) exit(1);
+    REQUIRE_OK(ctx, tt_camera_rays(cam, w, h, rays));
+    tt_batch_options bo;
+    tt_batch_options_default(&bo);
+    bo.image_width = w;
+    CHECK_OK(ctx, tt_intersect(accel, rays, n, hits, NULL, &bo));
+    size_t ns = 0;
+    for (size_t i = 0; i < n; i++)
+        if (hits[i].prim != TT_INVALID_ID && tt_shadow_ray(scene, cam, &rays[i], &hits[i], &sr[ns]))
+            ns++;
+    CHECK_MSG(ns > 1024, "%s: %zu shadow rays", what, ns);
+    for (size_t i = 0; i < ns; i++) {
+        int o;
+        tt_occluded1(accel, &sr[i], &o);
+        want[i] = (uint8_t)(o != 0);
+        for (int k = 0; k < 3; k++) {
+            soa[k * ns + i] = sr[i].org[k];
+            soa[(3 + k) * ns + i] = sr[i].dir[k];
+        }
+        soa[6 * ns + i] = sr[i].tmin;
+        soa[7 * ns + i] = sr[i].tmax;
+    }
+    tt_ray_arrays ra;
+    memset(&ra, 0, sizeof ra);
+    for (int k = 0; k < 3; k++) {
+        ra.org[k] = soa + k * ns;
+        ra.dir[k] = soa + (3 + k) * ns;
+    }
+    ra.tmin = soa + 6 * ns;
+    ra.tmax = soa + 7 * ns;
+    ra.org_stride = ra.dir_stride = ra.tmin_stride = ra.tmax_stride = sizeof(float);
+    for (int mode = 0; mode < 4; mode++) {
+        tt_batch_options_default(&bo);
+        bo.packets = mode & 1 ? TT_PACKETS_ON : TT_PACKETS_AUTO;
+        memset(occ, 0xAB, ns);
+        if (mode & 2) CHECK_OK(ctx, tt_occluded_arrays(accel, &ra, ns, occ, 1, NULL, &bo));
+        else CHECK_OK(ctx, tt_occluded(accel, sr, ns, occ, NULL, &bo));
+        size_t differ = 0;
+        for (size_t i = 0; i < ns; i++) differ += occ[i] != want[i];
+        CHECK_MSG(differ == 0, "%s: %zu of %zu shadow rays (mode %d) differ from tt_occluded1",
+                  what, differ, ns, mode);
+    }
+    free(rays);
+    free(sr);
+    free(hits);
+    free(occ);
+    free(want);
+    free(soa);
+}
+
 int main(void)
 {
     static const size_t bad[] = {5, 77, 2400, 4000, 4100, 4200};
@@ -439,6 +503,7 @@ int main(void)
                      (int)variants[v].layout, tt_isa_name(tt_accel_isa(accel)), threads);
             check_accel(ctx, accel, rays, n, bad, n_bad, what);
             check_camera_batch(ctx, scene, accel, &cam, what);
+            check_shadow_batch(ctx, scene, accel, &cam, what);
             if (v == 1) check_arguments(ctx, accel, rays);
             tt_accel_destroy(accel);
         }
