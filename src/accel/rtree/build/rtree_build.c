@@ -683,9 +683,11 @@ static sah_place find_level1_sah(const rt_builder *b, const float e[6])
     float best = ind + lc;
     for (int k = 0; k < depth; k++)
         push_promising(b, path[k], area[k], d[k], path_ind[k], ae, best, pick[k], heap, &cnt);
+    int pops = 0;
     while (cnt) {
         const sah_cand c = heap_pop(heap, &cnt);
         if (c.lb >= best || evals >= b->sah_max_evals) break;
+        if (b->sah_max_pops && pops++ >= b->sah_max_pops) break;
         const uint32_t m = c.n;
         if (b->hdr[m].level == 1) {
             const int li = choose_leaf_sah(b, m, e, ae, c.area, &lc);

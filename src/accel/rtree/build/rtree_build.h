@@ -73,8 +73,10 @@ typedef struct rt_builder {
      * them; in each, joining leaf i costs A(leaf i + t) (count + 1) -
      * A(leaf i) count, a new leaf of its own A(t), and an option that
      * splits a full node (a new leaf in it, or a full leaf's split) also
-     * sah_split_cost x the node's area (one more node to visit). */
-    int sah_leaves, sah_max_evals;
+     * sah_split_cost x the node's area (one more node to visit). The
+     * search also stops after sah_max_pops candidates (interior or
+     * level-1) taken off its heap (0: no such bound). */
+    int sah_leaves, sah_max_evals, sah_max_pops;
     float sah_split_cost;
     /* the overlap criterion's kernel for this CPU (rtree_choose_overlap.h);
      * NULL: the baseline one */

@@ -121,6 +121,20 @@ tt_status rt_dyn_from_compact(rt_dyn *d, tt_context *ctx, const tt_rtree_options
     b->sah_leaves = 1;
     b->sah_split_cost = 1.0f;
     b->sah_max_evals = 8;
+    /* at most six candidates off the search's heap: the eight level-1
+     * evaluations bounded only those, and on the conference the interior
+     * nodes the search opened on the way were most of its cost. bench D's
+     * edits, 1% a frame (callgrind, frames 2-16 / 2-31): conference 46.6M
+     * -> 38.6M instructions a frame, bunny 6.98M -> 7.03M; thread CPU,
+     * 31 frames, 10 interleaved runs on the shared box: conference 17.2 /
+     * 18.8 -> 14.9 / 16.6 ms (min / median), bunny 1.78 / 1.89 -> 1.73 /
+     * 2.04 ms. After 100 frames: SAH cost against a fresh build bunny
+     * 1.064x -> 1.067x, conference 0.91x -> 1.47x; traced (primary and
+     * shadow, 1 thread, against a fresh build of the frame) bunny 1.22-1.23x
+     * -> 1.24-1.31x, conference 1.52-1.61x -> 1.19-1.48x (the view's rays
+     * follow the SAH cost little there). Four: conference 14.7 ms median,
+     * but bunny 2.31 ms and SAH 1.11x */
+    b->sah_max_pops = 6;
     return TT_OK;
 }
 
