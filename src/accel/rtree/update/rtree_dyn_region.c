@@ -263,11 +263,17 @@ tt_status rt_dyn_region_write(rt_dyn *d, const tt_rtc *c, const tt_scene *scene,
             const uint64_t g = g0 + q;
             tt_tri_block *bk = blk + g / W;
             const uint32_t lane = (uint32_t)(g % W);
-            d->lane_of[id[q]] = (uint32_t)g;
             /* a leaf that kept its slot changed in a lane or two (an entry
              * added at the end, a removed one's place taken by the last):
-             * the other lanes hold their triangles as they are */
+             * the other lanes hold their triangles as they are, and their
+             * lane_of names them already (a lane holds an id only as
+             * written below or by the packer, both with lane_of, and the
+             * lanes a leaf leaves are cleared; checked over 100 frames of
+             * bunny and 40 of conference edits). The write for them was
+             * ~10k L2 misses a conference edits frame (callgrind, 1 MB
+             * LL: 0.432M -> 0.422M) */
             if (stamp && bk->prim[lane] == id[q] && stamp[id[q]] <= since) continue;
+            d->lane_of[id[q]] = (uint32_t)g;
             const float *v = scene->tri + 9 * (size_t)id[q];
             const int dead = tt_tri_is_degenerate(v, v + 3, v + 6); /* as rtc_pack */
             for (int e = 0; e < 9; e++) bk->v[e][lane] = dead ? NAN : v[e];
