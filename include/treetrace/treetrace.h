@@ -420,7 +420,12 @@ typedef struct tt_batch_options {
      * rays' counts here (slower; the default fast path never counts). */
     tt_ray_stats *stats;
     /* Consecutive rays a thread takes at a time; 0 (default): up to 256,
-     * fewer for small batches so that every thread gets work. */
+     * fewer for small batches so that every thread gets work. An occlusion
+     * batch traced with packets, with chunk and image_width 0, of at least
+     * 1024 rays whose sampled rays share a far end or a direction (the
+     * shadow rays of a camera's hits in image order, misses left out)
+     * instead has its image rows found from its origins and is taken as 8
+     * rows x 32 columns at a time; a wrong guess changes speed only. */
     uint32_t chunk;
     /* 0 (default), or the width of an image whose rows the rays are
      * (row-major, like tt_camera_rays'): threads then take 16 x 16 tiles of
