@@ -46,10 +46,11 @@ typedef struct plan {
  * first rays' origins come back closest (the pixels below them; searched
  * within LAG_NEAR, then 8 LAG_NEAR, of the last row's length while the best
  * lies at the window's edge, then over all lags LAG_MIN .. LAG_MAX: the
- * search was 4-5M instructions of a 1M-ray batch within 32, 1.8M now). Items are FOUND_ROWS rows by FOUND_TILE
- * columns, gathered in blocks of FOUND_COLS columns by those rows. A row is
- * a guess: a wrong one (rays of no such order) only makes other items,
- * every ray still in exactly one item, answered alone. */
+ * search was 4-5M instructions of a 1M-ray batch within 32, 1.8M now).
+ * Items are FOUND_ROWS rows by FOUND_TILE columns, gathered in blocks of
+ * FOUND_COLS columns by those rows. A row is a guess: a wrong one (rays of
+ * no such order) only makes other items, every ray still in exactly one
+ * item, answered alone. */
 #define FOUND_ROWS 8u
 #define FOUND_COLS 4u
 #define FOUND_TILE 32u
@@ -111,9 +112,10 @@ static size_t row_lag(const tt_ray_arrays *a, const tt_ray *aos, size_t n, size_
     return lag_in(a, aos, s, LAG_MIN, hi);
 }
 
-static void *grow(void *p, size_t *cap, size_t size)
+/* p of *cap elements (plus `extra` slots past them) grown to twice *cap */
+static void *grow(void *p, size_t *cap, size_t extra, size_t size)
 {
-    void *g = realloc(p, 2u * *cap * size);
+    void *g = realloc(p, (2u * *cap + extra) * size);
     if (g) *cap *= 2u;
     return g;
 }
@@ -127,11 +129,8 @@ static int plan_find_rows(plan *p, size_t n, const tt_ray_arrays *a, const tt_ra
     size_t prev = 0;
     for (size_t s = 0; s < n; rows++) {
         if (rows == cap) {
-            size_t *g = grow(st, &cap, sizeof *st);
-            if (!g) goto fail;
-            st = g;
-            /* (the room for starts[rows]: cap + 1 was asked at first) */
-            g = realloc(st, (cap + 1u) * sizeof *st);
+            /* (one slot past cap: the room for starts[rows] at the end) */
+            size_t *g = grow(st, &cap, 1u, sizeof *st);
             if (!g) goto fail;
             st = g;
         }
@@ -150,7 +149,7 @@ static int plan_find_rows(plan *p, size_t n, const tt_ray_arrays *a, const tt_ra
             wide = st[r + 1] - st[r] > wide ? st[r + 1] - st[r] : wide;
         for (size_t x0 = 0; x0 < wide; x0 += FOUND_TILE) {
             if (count == tcap) {
-                plan_tile *g = grow(t, &tcap, sizeof *t);
+                plan_tile *g = grow(t, &tcap, 0u, sizeof *t);
                 if (!g) {
                     free(t);
                     goto fail;
@@ -350,6 +349,28 @@ static inline void load_row_aos(const tt_ray *r, tt_packet_rays *p, uint32_t j)
     p->tmax[j] = r->tmax;
 }
 
+/* Found tile `item` of the plan into rows, in blocks of FOUND_COLS columns
+ * by its rows (a kernel walk of 16 or 32 rays is then 4 x 4 or 4 x 8
+ * pixels), each row's rays as far as the row goes; their indices into idx.
+ * Returns the rows' count. */
+static uint32_t gather_found_tile(const plan *p, long item, const tt_ray_arrays *rays,
+                                  const tt_ray *aos, tt_packet_rays *pr, size_t *idx)
+{
+    const plan_tile *t = &p->tiles[item];
+    const size_t r1 = t->row + FOUND_ROWS < p->rows ? t->row + FOUND_ROWS : p->rows;
+    uint32_t np = 0;
+    for (size_t x0 = t->x0; x0 < t->x0 + FOUND_TILE; x0 += FOUND_COLS)
+        for (size_t r = t->row; r < r1; r++) {
+            const size_t first = p->starts[r] + x0, end = p->starts[r + 1];
+            for (size_t i = first; i < end && i < first + FOUND_COLS; i++) {
+                if (aos) load_row_aos(&aos[i], pr, np);
+                else load_row(rays, i, pr, np);
+                idx[np++] = i;
+            }
+        }
+    return np;
+}
+
 /* check_ray's quick test over a packet's rows at once, in a loop the
  * compiler vectorises: 1 when every ray passes it (the common case; a ray
  * failing it may still be valid, and check_ray decides). */
@@ -490,20 +511,7 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                  * reciprocals, shear and octants itself */
                 uint32_t np = 0;
                 if (found) {
-                    /* a found tile in blocks of FOUND_COLS columns by its
-                     * rows: a kernel walk (16 or 32 rays) is then 4 x 4 or
-                     * 4 x 8 pixels */
-                    const plan_tile *t = &p.tiles[c];
-                    const size_t r1 = t->row + FOUND_ROWS < p.rows ? t->row + FOUND_ROWS : p.rows;
-                    for (size_t x0 = t->x0; x0 < t->x0 + FOUND_TILE; x0 += FOUND_COLS)
-                        for (size_t r = t->row; r < r1; r++) {
-                            const size_t e = p.starts[r + 1];
-                            for (size_t i = p.starts[r] + x0; i < e && i < p.starts[r] + x0 + FOUND_COLS; i++) {
-                                if (aos) load_row_aos(&aos[i], pr, np);
-                                else load_row(rays, i, pr, np);
-                                pidx[np++] = i;
-                            }
-                        }
+                    np = gather_found_tile(&p, c, rays, aos, pr, pidx);
                 } else if (aos) {
                     FOR_EACH_RAY(&p, c, i) {
                         /* runs (no image width): the ray 128 ahead
@@ -512,7 +520,7 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                          * turns), where the hardware's streaming starts
                          * late: shadow batches spent a fifth of their time
                          * waiting for these loads (perf). */
-                        if (!p.width && !found) __builtin_prefetch(&aos[i + 128u < p.n ? i + 128u : i]);
+                        if (!p.width) __builtin_prefetch(&aos[i + 128u < p.n ? i + 128u : i]);
                         load_row_aos(&aos[i], pr, np);
                         pidx[np++] = i;
                     }
