@@ -85,34 +85,39 @@ static uint32_t classify(nl_state *s, const uint64_t *ev, size_t n_ev, const kd_
     const uint32_t pkey = kd_float_key(sp->pos);
     const uint8_t planar_side = sp->planar_left ? KD_SIDE_LEFT : KD_SIDE_RIGHT;
     uint32_t nl = 0, nr = 0, nb = 0;
+    /* In locals: a byte store may alias anything, so through s the
+     * compiler reloaded both pointers after every one. */
+    uint8_t *side = s->side;
+    uint32_t *ids = s->ids;
+    const float *tri = s->tri;
     for (size_t i = 0; i < n_ev; i++) {
         const uint32_t key = kd_event_poskey(ev[i]), type = kd_event_type(ev[i]), t = kd_event_tri(ev[i]);
         if (type == KD_START) {
-            s->side[t] = key >= pkey ? KD_SIDE_RIGHT : KD_SIDE_BOTH;
+            side[t] = key >= pkey ? KD_SIDE_RIGHT : KD_SIDE_BOTH;
             nr += key >= pkey;
         } else if (type == KD_END) {
             if (key <= pkey) {
-                s->side[t] = KD_SIDE_LEFT;
+                side[t] = KD_SIDE_LEFT;
                 nl++;
-            } else if (s->side[t] == KD_SIDE_BOTH) {
-                s->ids[nb++] = t;
+            } else if (side[t] == KD_SIDE_BOTH) {
+                ids[nb++] = t;
                 /* reclip reads it next: the scene's triangles are far
                  * larger than the caches. */
-                __builtin_prefetch(s->tri + 9 * (size_t)t);
-                __builtin_prefetch(s->tri + 9 * (size_t)t + 8);
+                __builtin_prefetch(tri + 9 * (size_t)t);
+                __builtin_prefetch(tri + 9 * (size_t)t + 8);
             }
         } else {
-            uint8_t side = key < pkey ? KD_SIDE_LEFT : key > pkey ? KD_SIDE_RIGHT : planar_side;
-            s->side[t] = side;
+            uint8_t here = key < pkey ? KD_SIDE_LEFT : key > pkey ? KD_SIDE_RIGHT : planar_side;
+            side[t] = here;
             _Static_assert(KD_SIDE_LEFT == 1 && KD_SIDE_RIGHT == 2, "side bits");
-            nl += side & KD_SIDE_LEFT;
-            nr += side >> 1; /* KD_SIDE_RIGHT */
+            nl += here & KD_SIDE_LEFT;
+            nr += here >> 1; /* KD_SIDE_RIGHT */
         }
     }
     /* The straddlers' events are not copied to either child (their new
      * ones are merged in): side 0, so that the copy can add the side's two
      * bits as the children's counts. */
-    for (uint32_t i = 0; i < nb; i++) s->side[s->ids[i]] = 0;
+    for (uint32_t i = 0; i < nb; i++) side[ids[i]] = 0;
     *n_left = nl;
     *n_right = nr;
     return nb;
@@ -185,6 +190,8 @@ static void split_axis(const uint8_t *side_of, const uint64_t *ev, size_t n_ev, 
      * exist). */
     const uint64_t *lc_end = lc + llen, *rc_end = rc + rlen;
     uint64_t lnext = lc < lc_end ? *lc : UINT64_MAX, rnext = rc < rc_end ? *rc : UINT64_MAX;
+    /* The lower of the two: one test an event instead of two. */
+    uint64_t next = lnext < rnext ? lnext : rnext;
     size_t nl = 0, nr = 0;
     for (size_t i = 0; i < n_ev; i++) {
         const uint64_t e = ev[i];
@@ -194,15 +201,20 @@ static void split_axis(const uint8_t *side_of, const uint64_t *ev, size_t n_ev, 
          * where a straddler's re-clipped event kept its old position: the
          * parent's event is then that straddler's own, which goes to
          * neither side, so the order is the sorted one. */
-        while (lnext < e) {
-            ldst[nl++] = lnext;
-            lnext = ++lc < lc_end ? *lc : UINT64_MAX;
+        if (next < e) {
+            while (lnext < e) {
+                ldst[nl++] = lnext;
+                lnext = ++lc < lc_end ? *lc : UINT64_MAX;
+            }
+            while (rnext < e) {
+                rdst[nr++] = rnext;
+                rnext = ++rc < rc_end ? *rc : UINT64_MAX;
+            }
+            next = lnext < rnext ? lnext : rnext;
         }
-        while (rnext < e) {
-            rdst[nr++] = rnext;
-            rnext = ++rc < rc_end ? *rc : UINT64_MAX;
-        }
-        const uint8_t side = side_of[kd_event_tri(e)];
+        /* (widened to the counts' type at once: a byte's shift cost a
+         * mask and a move more) */
+        const size_t side = side_of[kd_event_tri(e)];
         /* Branch-free: the sides come in no predictable order. A store past
          * a run's end lands in the room behind it (the next axis' space,
          * overwritten later, or a spare slot). */
