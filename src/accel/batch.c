@@ -10,6 +10,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "accel/accel.h"
 #include "accel/packet_probe.h"
 #include "accel/packets.h"
@@ -349,6 +353,37 @@ static inline void load_row_aos(const tt_ray *r, tt_packet_rays *p, uint32_t j)
     p->tmax[j] = r->tmax;
 }
 
+/* Rays r[0..4) of tt_ray's into rows j .. j + 3: with SSE (x86-64's
+ * baseline) each ray's two halves (org, tmin / dir, tmax) are two loads
+ * and four rays' halves two 4 x 4 transposes, instead of eight scalar
+ * copies a ray (callgrind: a found tile's gathering was about a tenth of
+ * a shadow batch's instructions). The same floats land in the same rows. */
+static inline void load4_rows_aos(const tt_ray *r, tt_packet_rays *p, uint32_t j)
+{
+#if defined(__SSE2__)
+    _Static_assert(sizeof(tt_ray) == 32 && offsetof(tt_ray, tmin) == 12 &&
+                       offsetof(tt_ray, dir) == 16 && offsetof(tt_ray, tmax) == 28,
+                   "tt_ray: two halves of four floats");
+    const float *f = (const float *)(const void *)r;
+    __m128 o0 = _mm_loadu_ps(f), o1 = _mm_loadu_ps(f + 8), o2 = _mm_loadu_ps(f + 16),
+           o3 = _mm_loadu_ps(f + 24);
+    __m128 d0 = _mm_loadu_ps(f + 4), d1 = _mm_loadu_ps(f + 12), d2 = _mm_loadu_ps(f + 20),
+           d3 = _mm_loadu_ps(f + 28);
+    _MM_TRANSPOSE4_PS(o0, o1, o2, o3);
+    _MM_TRANSPOSE4_PS(d0, d1, d2, d3);
+    _mm_storeu_ps(p->org[0] + j, o0);
+    _mm_storeu_ps(p->org[1] + j, o1);
+    _mm_storeu_ps(p->org[2] + j, o2);
+    _mm_storeu_ps(p->tmin + j, o3);
+    _mm_storeu_ps(p->dir[0] + j, d0);
+    _mm_storeu_ps(p->dir[1] + j, d1);
+    _mm_storeu_ps(p->dir[2] + j, d2);
+    _mm_storeu_ps(p->tmax + j, d3);
+#else
+    for (uint32_t q = 0; q < 4; q++) load_row_aos(&r[q], p, j + q);
+#endif
+}
+
 /* Found tile `item` of the plan into rows, in blocks of FOUND_COLS columns
  * by its rows (a kernel walk of 16 or 32 rays is then 4 x 4 or 4 x 8
  * pixels), each row's rays as far as the row goes; their indices into idx.
@@ -362,6 +397,12 @@ static uint32_t gather_found_tile(const plan *p, long item, const tt_ray_arrays 
     for (size_t x0 = t->x0; x0 < t->x0 + FOUND_TILE; x0 += FOUND_COLS)
         for (size_t r = t->row; r < r1; r++) {
             const size_t first = p->starts[r] + x0, end = p->starts[r + 1];
+            if (aos && FOUND_COLS == 4u && first + 4u <= end) {
+                load4_rows_aos(&aos[first], pr, np);
+                for (uint32_t q = 0; q < 4u; q++) idx[np + q] = first + q;
+                np += 4u;
+                continue;
+            }
             for (size_t i = first; i < end && i < first + FOUND_COLS; i++) {
                 if (aos) load_row_aos(&aos[i], pr, np);
                 else load_row(rays, i, pr, np);
