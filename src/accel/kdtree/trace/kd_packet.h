@@ -87,6 +87,11 @@ _Static_assert(KP_K * PK_L <= 32, "a walk's lanes fit one 32-bit word (kp_walk)"
 #ifndef KP_PACK
 #define KP_PACK 1
 #endif
+/* Leaves with lanes in both vectors of a walk (too many to pack): both
+ * vectors against each triangle in one loop (kp_tris2). */
+#ifndef KP_TRIS2
+#define KP_TRIS2 1
+#endif
 /* Groups with fewer rays go ray by ray. */
 #ifndef KP_MIN_RAYS
 #define KP_MIN_RAYS 4u
@@ -181,6 +186,96 @@ _Static_assert(TT_TRI_BLOCK_W == 8, "KP_TRI: eight triangles a block");
  * recomputation). Returns the lanes that hit (any = 1: occluded) or whose
  * best changed (any = 0). Zero-area triangles are NaN in the blocks: every
  * lane fails their t test, as tt_intersect_triangle refuses them. */
+/* Triangle id's coordinates tv (a.x .. c.z, broadcast) against the lanes
+ * *pmm of one vector of rays (kp_tris' arguments); hits (any = 1) leave
+ * *pmm, and the lanes that hit or whose best changed are added to *pout. */
+KP_INLINE void TT_VARIANT(KD_FN(kp_tri1))(const tt_kd_view *T, const pk_v *tv, uint32_t id,
+                                            const int kx, const int ky, const int kz,
+                                            const pk_v ox, const pk_v oy, const pk_v oz,
+                                            const pk_v sx, const pk_v sy, const pk_v sz,
+                                            const pk_v tmin, pk_v *pbt, float *bu, float *bv,
+                                            uint32_t *bp, uint32_t *pmm, uint32_t *pout,
+                                            const tt_packet_rays *R, const uint16_t *src,
+                                            const int any)
+{
+    const pk_v zero = PK_SET1(0.0f), one = PK_SET1(1.0f);
+    const uint32_t mm = *pmm;
+    const pk_v ax = PK_SUB(tv[kx], ox), ay = PK_SUB(tv[ky], oy), az = PK_SUB(tv[kz], oz);
+    const pk_v bx = PK_SUB(tv[3 + kx], ox), by = PK_SUB(tv[3 + ky], oy),
+               bz = PK_SUB(tv[3 + kz], oz);
+    const pk_v cx = PK_SUB(tv[6 + kx], ox), cy = PK_SUB(tv[6 + ky], oy),
+               cz = PK_SUB(tv[6 + kz], oz);
+    const pk_v Ax = PK_SUB(ax, PK_MUL(sx, az)), Ay = PK_SUB(ay, PK_MUL(sy, az));
+    const pk_v Bx = PK_SUB(bx, PK_MUL(sx, bz)), By = PK_SUB(by, PK_MUL(sy, bz));
+    const pk_v Cx = PK_SUB(cx, PK_MUL(sx, cz)), Cy = PK_SUB(cy, PK_MUL(sy, cz));
+    const pk_v U = PK_SUB(PK_MUL(Cx, By), PK_MUL(Cy, Bx));
+    const pk_v V = PK_SUB(PK_MUL(Ax, Cy), PK_MUL(Ay, Cx));
+    const pk_v W = PK_SUB(PK_MUL(Bx, Ay), PK_MUL(By, Ax));
+    uint32_t zl =
+        PK_BITS(PK_MOR(PK_MOR(PK_CMP_EQ(U, zero), PK_CMP_EQ(V, zero)), PK_CMP_EQ(W, zero))) & mm;
+    /* Inside: no edge function < 0 while another is > 0. Away from
+     * the zero lanes (zl, handled below) that is U, V, W of one sign:
+     * the sign bits of U ^ V and U ^ W clear. A NaN lane may come out
+     * either way here, but its det and t are NaN and the t test below
+     * refuses it as tt_intersect_triangle does. */
+    const uint32_t inside = ~PK_SIGNS(PK_XOR_OR(U, V, W)) & mm & ~zl;
+    /* most lanes miss most triangles on the edge functions: skip the
+     * division when every active lane does */
+    if (!(inside | zl)) return;
+    const pk_v det = PK_ADD(PK_ADD(U, V), W);
+    const pk_v Tv = PK_ADD(PK_ADD(PK_MUL(U, PK_MUL(sz, az)), PK_MUL(V, PK_MUL(sz, bz))),
+                           PK_MUL(W, PK_MUL(sz, cz)));
+    const pk_v inv_det = PK_DIV(one, det);
+    const pk_v tt = PK_MUL(Tv, inv_det);
+    pk_v bt = *pbt;
+    const pk_m ok =
+        PK_MAND(PK_MAND(PK_CMP_NEQ(det, zero), PK_CMP_GE(tt, tmin)), PK_CMP_LT(tt, bt));
+    const uint32_t acc = PK_BITS(ok) & inside;
+    if (!(acc | zl)) return;
+    if (any) {
+        *pout |= acc;
+        *pmm = mm & ~acc;
+    } else if (acc) {
+        const pk_m am = PK_MASK(acc);
+        bt = PK_BLEND(am, bt, tt);
+        PK_STORE(bu, PK_BLEND(am, PK_LOAD(bu), PK_MUL(V, inv_det)));
+        PK_STORE(bv, PK_BLEND(am, PK_LOAD(bv), PK_MUL(W, inv_det)));
+        PK_STOREI(bp, PK_BLENDI(am, PK_LOADI(bp), id));
+        *pout |= acc;
+    }
+    if (zl) {
+        /* zero edge functions: tt_intersect_triangle's double-precision
+         * recomputation, lane by lane (rare), on the scene's triangle */
+        const float *p = T->tri + 9 * (size_t)id;
+        _Alignas(64) float bts[PK_L];
+        PK_STORE(bts, bt);
+        for (; zl; zl &= zl - 1) {
+            const uint32_t l = (uint32_t)__builtin_ctz(zl);
+            float th, uh, vh;
+            if (!kp_tri_row(R, src[l], p, bts[l], &th, &uh, &vh)) continue;
+            *pout |= 1u << l;
+            if (any) {
+                *pmm &= ~(1u << l);
+            } else {
+                bts[l] = th;
+                bu[l] = uh;
+                bv[l] = vh;
+                bp[l] = id;
+            }
+        }
+        bt = PK_LOAD(bts);
+    }
+    *pbt = bt;
+}
+
+/* A leaf's triangles (count of them, blocks blk) against the lanes mm of
+ * one vector of rays: origin (ox, oy, oz) in the group's (kx, ky, kz)
+ * order, shear (sx, sy, sz), tmin, the best t so far *pbt; u, v, prim of
+ * the lanes in the arrays bu, bv, bp (PK_L each, updated where a lane's
+ * best changes); src[l] the lane's row in R (the zero-edge
+ * recomputation). Returns the lanes that hit (any = 1: occluded) or whose
+ * best changed (any = 0). Zero-area triangles are NaN in the blocks: every
+ * lane fails their t test, as tt_intersect_triangle refuses them. */
 KP_INLINE uint32_t TT_VARIANT(KD_FN(kp_tris))(const tt_kd_view *T, const tt_tri_block *blk,
                                               uint32_t count, const int kx, const int ky,
                                               const int kz, const pk_v ox, const pk_v oy,
@@ -190,86 +285,60 @@ KP_INLINE uint32_t TT_VARIANT(KD_FN(kp_tris))(const tt_kd_view *T, const tt_tri_
                                               const tt_packet_rays *R, const uint16_t *src,
                                               const int any)
 {
-    const pk_v zero = PK_SET1(0.0f), one = PK_SET1(1.0f);
-    pk_v bt = *pbt;
     uint32_t out = 0;
     for (uint32_t i = 0; i < count && mm; i++) {
-        const pk_v ax = PK_SUB(PK_SET1(KP_TRI(blk, i, kx)), ox),
-                   ay = PK_SUB(PK_SET1(KP_TRI(blk, i, ky)), oy),
-                   az = PK_SUB(PK_SET1(KP_TRI(blk, i, kz)), oz);
-        const pk_v bx = PK_SUB(PK_SET1(KP_TRI(blk, i, 3 + kx)), ox),
-                   by = PK_SUB(PK_SET1(KP_TRI(blk, i, 3 + ky)), oy),
-                   bz = PK_SUB(PK_SET1(KP_TRI(blk, i, 3 + kz)), oz);
-        const pk_v cx = PK_SUB(PK_SET1(KP_TRI(blk, i, 6 + kx)), ox),
-                   cy = PK_SUB(PK_SET1(KP_TRI(blk, i, 6 + ky)), oy),
-                   cz = PK_SUB(PK_SET1(KP_TRI(blk, i, 6 + kz)), oz);
-        const pk_v Ax = PK_SUB(ax, PK_MUL(sx, az)), Ay = PK_SUB(ay, PK_MUL(sy, az));
-        const pk_v Bx = PK_SUB(bx, PK_MUL(sx, bz)), By = PK_SUB(by, PK_MUL(sy, bz));
-        const pk_v Cx = PK_SUB(cx, PK_MUL(sx, cz)), Cy = PK_SUB(cy, PK_MUL(sy, cz));
-        const pk_v U = PK_SUB(PK_MUL(Cx, By), PK_MUL(Cy, Bx));
-        const pk_v V = PK_SUB(PK_MUL(Ax, Cy), PK_MUL(Ay, Cx));
-        const pk_v W = PK_SUB(PK_MUL(Bx, Ay), PK_MUL(By, Ax));
-        uint32_t zl =
-            PK_BITS(PK_MOR(PK_MOR(PK_CMP_EQ(U, zero), PK_CMP_EQ(V, zero)), PK_CMP_EQ(W, zero))) &
-            mm;
-        /* Inside: no edge function < 0 while another is > 0. Away from
-         * the zero lanes (zl, handled below) that is U, V, W of one sign:
-         * the sign bits of U ^ V and U ^ W clear. A NaN lane may come out
-         * either way here, but its det and t are NaN and the t test below
-         * refuses it as tt_intersect_triangle does. */
-        const uint32_t inside =
-            ~PK_SIGNS(PK_XOR_OR(U, V, W)) & mm & ~zl;
-        /* most lanes miss most triangles on the edge functions: skip the
-         * division when every active lane does */
-        if (!(inside | zl)) continue;
-        const pk_v det = PK_ADD(PK_ADD(U, V), W);
-        const pk_v Tv = PK_ADD(PK_ADD(PK_MUL(U, PK_MUL(sz, az)), PK_MUL(V, PK_MUL(sz, bz))),
-                               PK_MUL(W, PK_MUL(sz, cz)));
-        const pk_v inv_det = PK_DIV(one, det);
-        const pk_v tt = PK_MUL(Tv, inv_det);
-        const pk_m ok =
-            PK_MAND(PK_MAND(PK_CMP_NEQ(det, zero), PK_CMP_GE(tt, tmin)), PK_CMP_LT(tt, bt));
-        const uint32_t acc = PK_BITS(ok) & inside;
-        if (!(acc | zl)) continue;
-        const uint32_t id = KP_TRI_ID(blk, i);
-        if (any) {
-            out |= acc;
-            mm &= ~acc;
-        } else if (acc) {
-            const pk_m am = PK_MASK(acc);
-            bt = PK_BLEND(am, bt, tt);
-            PK_STORE(bu, PK_BLEND(am, PK_LOAD(bu), PK_MUL(V, inv_det)));
-            PK_STORE(bv, PK_BLEND(am, PK_LOAD(bv), PK_MUL(W, inv_det)));
-            PK_STOREI(bp, PK_BLENDI(am, PK_LOADI(bp), id));
-            out |= acc;
-        }
-        if (zl) {
-            /* zero edge functions: tt_intersect_triangle's double-precision
-             * recomputation, lane by lane (rare), on the scene's triangle */
-            const float *p = T->tri + 9 * (size_t)id;
-            _Alignas(64) float bts[PK_L];
-            PK_STORE(bts, bt);
-            for (; zl; zl &= zl - 1) {
-                const uint32_t l = (uint32_t)__builtin_ctz(zl);
-                float th, uh, vh;
-                if (!kp_tri_row(R, src[l], p, bts[l], &th, &uh, &vh))
-                    continue;
-                out |= 1u << l;
-                if (any) {
-                    mm &= ~(1u << l);
-                } else {
-                    bts[l] = th;
-                    bu[l] = uh;
-                    bv[l] = vh;
-                    bp[l] = id;
-                }
-            }
-            bt = PK_LOAD(bts);
-        }
+        pk_v tv[9];
+        for (int k = 0; k < 9; k++) tv[k] = PK_SET1(KP_TRI(blk, i, k));
+        TT_VARIANT(KD_FN(kp_tri1))(T, tv, KP_TRI_ID(blk, i), kx, ky, kz, ox, oy, oz, sx, sy, sz,
+                                   tmin, pbt, bu, bv, bp, &mm, &out, R, src, any);
     }
-    *pbt = bt;
     return out;
 }
+
+#if KP_K == 2
+/* kp_tris for both vectors of a walk at once (base the first's lane): each
+ * triangle's coordinates broadcast once for the two, each vector's lanes
+ * tested with kp_tri1 exactly as kp_tris would (lanes are independent, so
+ * every lane sees the same operations in the same triangle order).
+ * Occlusion: answered lanes into P->done. */
+KP_INLINE void TT_VARIANT(KD_FN(kp_tris2))(const tt_kd_view *T, kp_rays *P, uint32_t v0,
+                                              const tt_tri_block *blk, uint32_t count,
+                                              uint32_t *mm, const int any)
+{
+    const int kx = P->kx, ky = P->ky, kz = P->kz;
+    const uint32_t b0 = v0 * PK_L, b1 = b0 + PK_L;
+    const pk_v ox0 = PK_LOAD(P->o[kx] + b0), oy0 = PK_LOAD(P->o[ky] + b0),
+               oz0 = PK_LOAD(P->o[kz] + b0);
+    const pk_v sx0 = PK_LOAD(P->sx + b0), sy0 = PK_LOAD(P->sy + b0), sz0 = PK_LOAD(P->sz + b0);
+    const pk_v tmin0 = PK_LOAD(P->tmin + b0);
+    const pk_v ox1 = PK_LOAD(P->o[kx] + b1), oy1 = PK_LOAD(P->o[ky] + b1),
+               oz1 = PK_LOAD(P->o[kz] + b1);
+    const pk_v sx1 = PK_LOAD(P->sx + b1), sy1 = PK_LOAD(P->sy + b1), sz1 = PK_LOAD(P->sz + b1);
+    const pk_v tmin1 = PK_LOAD(P->tmin + b1);
+    pk_v bt0 = PK_LOAD(P->t + b0), bt1 = PK_LOAD(P->t + b1);
+    uint32_t m0 = mm[0], m1 = mm[1], out0 = 0, out1 = 0;
+    for (uint32_t i = 0; i < count && (m0 | m1); i++) {
+        pk_v tv[9];
+        for (int k = 0; k < 9; k++) tv[k] = PK_SET1(KP_TRI(blk, i, k));
+        const uint32_t id = KP_TRI_ID(blk, i);
+        if (m0)
+            TT_VARIANT(KD_FN(kp_tri1))(T, tv, id, kx, ky, kz, ox0, oy0, oz0, sx0, sy0, sz0,
+                                       tmin0, &bt0, P->u + b0, P->v + b0, P->prim + b0, &m0,
+                                       &out0, P->R, P->src + b0, any);
+        if (m1)
+            TT_VARIANT(KD_FN(kp_tri1))(T, tv, id, kx, ky, kz, ox1, oy1, oz1, sx1, sy1, sz1,
+                                       tmin1, &bt1, P->u + b1, P->v + b1, P->prim + b1, &m1,
+                                       &out1, P->R, P->src + b1, any);
+    }
+    if (any) {
+        P->done[v0] |= out0;
+        P->done[v0 + 1] |= out1;
+    } else {
+        PK_STORE(P->t + b0, bt0);
+        PK_STORE(P->t + b1, bt1);
+    }
+}
+#endif
 
 #if KP_K <= 2
 /* A leaf against c <= PK_L / 2 lanes mm[] of the walk at v0, several
@@ -517,6 +586,12 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_leaf))(const tt_kd_view *T, kp_rays *P, uint3
 #endif
     (void)tot;
     (void)nz;
+#if KP_K == 2 && KP_TRIS2
+    if (nz == 2) {
+        TT_VARIANT(KD_FN(kp_tris2))(T, P, v0, blk, count, mm, any);
+        return;
+    }
+#endif
     for (uint32_t j = 0; j < KP_K; j++) {
         const uint32_t vi = v0 + j, base = vi * PK_L;
         if (!mm[j]) continue;
