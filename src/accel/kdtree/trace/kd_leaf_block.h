@@ -29,7 +29,7 @@
 
 /* Lanes of one block: returns the valid-hit mask and leaves t, u, v per
  * lane in the arrays. */
-static inline unsigned kd_block8(const tt_kd_view *T, const tt_tri_block *b, const tt_wray *r,
+TT_TRI_KERNEL unsigned kd_block8(const tt_kd_view *T, const tt_tri_block *b, const tt_wray *r,
                                  float tmax, float *t_out, float *u_out, float *v_out)
 {
     const int kx = r->kx, ky = r->ky, kz = r->kz;
@@ -101,7 +101,7 @@ static inline unsigned kd_block8(const tt_kd_view *T, const tt_tri_block *b, con
     return hits;
 }
 
-static inline int kd_leaf_block(const tt_kd_view *T, tt_kd_node leaf, const tt_wray *r, int any,
+TT_TRI_KERNEL int kd_leaf_block(const tt_kd_view *T, tt_kd_node leaf, const tt_wray *r, int any,
                                 tt_kd_best *best)
 {
     const tt_tri_block *b = T->blocks + leaf.u.first;
@@ -119,5 +119,96 @@ static inline int kd_leaf_block(const tt_kd_view *T, tt_kd_node leaf, const tt_w
             }
         }
     }
+    return 0;
+}
+
+/* The ray's broadcasts for the any-hit test below, made once a ray instead
+ * of once a block: the origin in the shear's axis order (kx, ky, kz) and
+ * the shear constants. */
+typedef struct kd_bray {
+    __m256 ox, oy, oz, sx, sy, sz, tmin, tmax;
+} kd_bray;
+
+TT_TRI_KERNEL void kd_bray_init(kd_bray *q, const tt_wray *r)
+{
+    q->ox = _mm256_set1_ps(r->org[r->kx]);
+    q->oy = _mm256_set1_ps(r->org[r->ky]);
+    q->oz = _mm256_set1_ps(r->org[r->kz]);
+    q->sx = _mm256_set1_ps(r->sx);
+    q->sy = _mm256_set1_ps(r->sy);
+    q->sz = _mm256_set1_ps(r->sz);
+    q->tmin = _mm256_set1_ps(r->tmin);
+    q->tmax = _mm256_set1_ps(r->tmax);
+}
+
+/* kd_block8 for occlusion: 1 when some lane holds a hit on [tmin, tmax).
+ * The same operations in the same order as kd_block8 (the same lanes pass),
+ * less what only the closest hit needs (u, v, the stores). An occlusion
+ * ray's bound stays r->tmax until its first hit, which ends the walk, so
+ * kd_block8's tmax argument is always r->tmax here. */
+TT_TRI_KERNEL int kd_block8_any(const tt_kd_view *T, const tt_tri_block *b, const tt_wray *r,
+                                const kd_bray *q)
+{
+    const int kx = r->kx, ky = r->ky, kz = r->kz;
+    const __m256 ax = _mm256_sub_ps(_mm256_load_ps(b->v[kx]), q->ox),
+                 ay = _mm256_sub_ps(_mm256_load_ps(b->v[ky]), q->oy),
+                 az = _mm256_sub_ps(_mm256_load_ps(b->v[kz]), q->oz);
+    const __m256 bx = _mm256_sub_ps(_mm256_load_ps(b->v[3 + kx]), q->ox),
+                 by = _mm256_sub_ps(_mm256_load_ps(b->v[3 + ky]), q->oy),
+                 bz = _mm256_sub_ps(_mm256_load_ps(b->v[3 + kz]), q->oz);
+    const __m256 cx = _mm256_sub_ps(_mm256_load_ps(b->v[6 + kx]), q->ox),
+                 cy = _mm256_sub_ps(_mm256_load_ps(b->v[6 + ky]), q->oy),
+                 cz = _mm256_sub_ps(_mm256_load_ps(b->v[6 + kz]), q->oz);
+    const __m256 Ax = _mm256_sub_ps(ax, _mm256_mul_ps(q->sx, az)),
+                 Ay = _mm256_sub_ps(ay, _mm256_mul_ps(q->sy, az));
+    const __m256 Bx = _mm256_sub_ps(bx, _mm256_mul_ps(q->sx, bz)),
+                 By = _mm256_sub_ps(by, _mm256_mul_ps(q->sy, bz));
+    const __m256 Cx = _mm256_sub_ps(cx, _mm256_mul_ps(q->sx, cz)),
+                 Cy = _mm256_sub_ps(cy, _mm256_mul_ps(q->sy, cz));
+    const __m256 U = _mm256_sub_ps(_mm256_mul_ps(Cx, By), _mm256_mul_ps(Cy, Bx));
+    const __m256 V = _mm256_sub_ps(_mm256_mul_ps(Ax, Cy), _mm256_mul_ps(Ay, Cx));
+    const __m256 W = _mm256_sub_ps(_mm256_mul_ps(Bx, Ay), _mm256_mul_ps(By, Ax));
+    const __m256 zero = _mm256_setzero_ps();
+    const __m256 anyzero =
+        _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(U, zero, _CMP_EQ_OQ), _mm256_cmp_ps(V, zero, _CMP_EQ_OQ)),
+                     _mm256_cmp_ps(W, zero, _CMP_EQ_OQ));
+    const __m256 anyneg =
+        _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(U, zero, _CMP_LT_OQ), _mm256_cmp_ps(V, zero, _CMP_LT_OQ)),
+                     _mm256_cmp_ps(W, zero, _CMP_LT_OQ));
+    const __m256 anypos =
+        _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(U, zero, _CMP_GT_OQ), _mm256_cmp_ps(V, zero, _CMP_GT_OQ)),
+                     _mm256_cmp_ps(W, zero, _CMP_GT_OQ));
+    const __m256 det = _mm256_add_ps(_mm256_add_ps(U, V), W);
+    const unsigned redo = (unsigned)_mm256_movemask_ps(anyzero);
+    const __m256 maybe =
+        _mm256_andnot_ps(_mm256_and_ps(anyneg, anypos), _mm256_cmp_ps(det, zero, _CMP_NEQ_OQ));
+    const unsigned cand = (unsigned)_mm256_movemask_ps(maybe) & ~redo;
+    if (!(cand | redo)) return 0;
+    if (cand) {
+        const __m256 T3 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(U, _mm256_mul_ps(q->sz, az)),
+                                                      _mm256_mul_ps(V, _mm256_mul_ps(q->sz, bz))),
+                                        _mm256_mul_ps(W, _mm256_mul_ps(q->sz, cz)));
+        const __m256 inv_det = _mm256_div_ps(_mm256_set1_ps(1.0f), det);
+        const __m256 t = _mm256_mul_ps(T3, inv_det);
+        const __m256 ok = _mm256_and_ps(_mm256_cmp_ps(t, q->tmin, _CMP_GE_OQ),
+                                        _mm256_cmp_ps(t, q->tmax, _CMP_LT_OQ));
+        if ((unsigned)_mm256_movemask_ps(ok) & cand) return 1;
+    }
+    for (unsigned m = redo; m; m &= m - 1u) {
+        const unsigned i = (unsigned)__builtin_ctz(m);
+        const float *p = T->tri + 9 * (size_t)b->prim[i];
+        float t, u, v;
+        if (tt_intersect_triangle(r, p, p + 3, p + 6, r->tmax, &t, &u, &v)) return 1;
+    }
+    return 0;
+}
+
+/* The any-hit leaf: blocks [first, first + count). */
+TT_TRI_KERNEL int kd_leaf_block_any(const tt_kd_view *T, uint32_t first, uint32_t count,
+                                    const tt_wray *r, const kd_bray *q)
+{
+    const tt_tri_block *b = T->blocks + first, *end = b + count;
+    for (; b != end; b++)
+        if (kd_block8_any(T, b, r, q)) return 1;
     return 0;
 }

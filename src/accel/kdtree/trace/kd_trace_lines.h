@@ -24,8 +24,23 @@ static inline int kd_lines_leaf(const tt_kd_view *T, uint32_t x, const tt_wray *
     return kd_leaf_block(T, leaf, r, any, best);
 }
 
-static inline int kd_lines_htr(const tt_kd_view *T, const tt_wray *r, int any, tt_kd_best *best)
+/* The any-hit leaf: the same blocks, kd_leaf_block_any's test. */
+TT_TRI_KERNEL int kd_lines_leaf_any(const tt_kd_view *T, uint32_t x, const tt_wray *r,
+                                    const kd_bray *q)
 {
+    const uint32_t n = (x >> 27) & TT_KD_LINE_NMAX;
+    if (n) return kd_leaf_block_any(T, x & TT_KD_LINE_INDEX, n, r, q);
+    const tt_kd_node leaf = T->nodes[x & TT_KD_LINE_INDEX];
+    return kd_leaf_block_any(T, leaf.u.first, tt_tri_block_count(tt_kd_leaf_count(leaf.bits)), r,
+                             q);
+}
+
+/* Inlined into each entry point with `any` a constant: the occlusion copy
+ * tests leaves with kd_leaf_block_any, its ray broadcasts made once. */
+TT_TRI_KERNEL int kd_lines_htr(const tt_kd_view *T, const tt_wray *r, int any, tt_kd_best *best)
+{
+    kd_bray q;
+    if (any) kd_bray_init(&q, r);
     tt_kd_htr_entry stack[TT_KD_STACK];
     float ta, tb, e[3];
     tt_kd_band band;
@@ -93,7 +108,9 @@ static inline int kd_lines_htr(const tt_kd_view *T, const tt_wray *r, int any, t
             line = x;
             h = 0;
         }
-        if (x != TT_KD_LINE_EMPTY && kd_lines_leaf(T, x, r, any, best)) return 1;
+        if (x != TT_KD_LINE_EMPTY &&
+            (any ? kd_lines_leaf_any(T, x, r, &q) : kd_lines_leaf(T, x, r, any, best)))
+            return 1;
         uint32_t pos;
         if (!tt_kd_htr_pop(stack, &sp, best->t, &pos, &ta, &tb)) return 0;
         line = pos >> 4;
