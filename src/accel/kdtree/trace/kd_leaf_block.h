@@ -27,14 +27,20 @@
 
 #include "geometry/tri_block.h"
 
-/* Lanes of one block: returns the valid-hit mask and leaves t, u, v per
- * lane in the arrays. */
-TT_TRI_KERNEL unsigned kd_block8(const tt_kd_view *T, const tt_tri_block *b, const tt_wray *r,
-                                 float tmax, float *t_out, float *u_out, float *v_out)
+/* The edge functions of a block's eight triangles for one ray, the part
+ * kd_block8 and kd_block8_any share: the vertices relative to the origin in
+ * the shear's axis order, sheared (U, V, W as tt_intersect_triangle forms
+ * them, in the same order), det = U + V + W, the lanes with a zero edge
+ * function (redo: the scalar test re-tests those) and the lanes whose edge
+ * functions have both signs (out: no hit). az, bz, cz stay for the depth. */
+typedef struct kd_edges8 {
+    __m256 U, V, W, det, az, bz, cz, out;
+    unsigned redo;
+} kd_edges8;
+
+TT_TRI_KERNEL void kd_block8_edges(const tt_tri_block *b, int kx, int ky, int kz, __m256 ox,
+                                   __m256 oy, __m256 oz, __m256 sx, __m256 sy, kd_edges8 *e)
 {
-    const int kx = r->kx, ky = r->ky, kz = r->kz;
-    const __m256 ox = _mm256_set1_ps(r->org[kx]), oy = _mm256_set1_ps(r->org[ky]),
-                 oz = _mm256_set1_ps(r->org[kz]);
     const __m256 ax = _mm256_sub_ps(_mm256_load_ps(b->v[kx]), ox),
                  ay = _mm256_sub_ps(_mm256_load_ps(b->v[ky]), oy),
                  az = _mm256_sub_ps(_mm256_load_ps(b->v[kz]), oz);
@@ -44,8 +50,6 @@ TT_TRI_KERNEL unsigned kd_block8(const tt_kd_view *T, const tt_tri_block *b, con
     const __m256 cx = _mm256_sub_ps(_mm256_load_ps(b->v[6 + kx]), ox),
                  cy = _mm256_sub_ps(_mm256_load_ps(b->v[6 + ky]), oy),
                  cz = _mm256_sub_ps(_mm256_load_ps(b->v[6 + kz]), oz);
-    const __m256 sx = _mm256_set1_ps(r->sx), sy = _mm256_set1_ps(r->sy),
-                 sz = _mm256_set1_ps(r->sz);
     const __m256 Ax = _mm256_sub_ps(ax, _mm256_mul_ps(sx, az)),
                  Ay = _mm256_sub_ps(ay, _mm256_mul_ps(sy, az));
     const __m256 Bx = _mm256_sub_ps(bx, _mm256_mul_ps(sx, bz)),
@@ -65,23 +69,44 @@ TT_TRI_KERNEL unsigned kd_block8(const tt_kd_view *T, const tt_tri_block *b, con
     const __m256 anypos =
         _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(U, zero, _CMP_GT_OQ), _mm256_cmp_ps(V, zero, _CMP_GT_OQ)),
                      _mm256_cmp_ps(W, zero, _CMP_GT_OQ));
-    const __m256 det = _mm256_add_ps(_mm256_add_ps(U, V), W);
+    e->U = U;
+    e->V = V;
+    e->W = W;
+    e->det = _mm256_add_ps(_mm256_add_ps(U, V), W);
+    e->az = az;
+    e->bz = bz;
+    e->cz = cz;
+    e->out = _mm256_and_ps(anyneg, anypos);
+    e->redo = (unsigned)_mm256_movemask_ps(anyzero);
+}
+
+/* Lanes of one block: returns the valid-hit mask and leaves t, u, v per
+ * lane in the arrays. */
+TT_TRI_KERNEL unsigned kd_block8(const tt_kd_view *T, const tt_tri_block *b, const tt_wray *r,
+                                 float tmax, float *t_out, float *u_out, float *v_out)
+{
+    const int kx = r->kx, ky = r->ky, kz = r->kz;
+    const __m256 sz = _mm256_set1_ps(r->sz);
+    kd_edges8 e;
+    kd_block8_edges(b, kx, ky, kz, _mm256_set1_ps(r->org[kx]), _mm256_set1_ps(r->org[ky]),
+                    _mm256_set1_ps(r->org[kz]), _mm256_set1_ps(r->sx), _mm256_set1_ps(r->sy), &e);
+    const __m256 U = e.U, V = e.V, W = e.W, det = e.det, az = e.az, bz = e.bz, cz = e.cz;
+    const __m256 zero = _mm256_setzero_ps();
     /* Most blocks a ray meets hold no lane inside all three edges (every
      * block of an unoccluded shadow ray): stop before the depth and the
      * division. A lane can only hit where its edge functions agree in sign
      * and det is a nonzero number (NaN lanes: padding, zero area), or where
      * one is zero (the scalar re-test below), so skipping the rest changes
      * no answer. */
-    const unsigned redo = (unsigned)_mm256_movemask_ps(anyzero);
-    const __m256 maybe =
-        _mm256_andnot_ps(_mm256_and_ps(anyneg, anypos), _mm256_cmp_ps(det, zero, _CMP_NEQ_OQ));
+    const unsigned redo = e.redo;
+    const __m256 maybe = _mm256_andnot_ps(e.out, _mm256_cmp_ps(det, zero, _CMP_NEQ_OQ));
     if (!(_mm256_movemask_ps(maybe) | redo)) return 0;
     const __m256 T3 = _mm256_add_ps(
         _mm256_add_ps(_mm256_mul_ps(U, _mm256_mul_ps(sz, az)), _mm256_mul_ps(V, _mm256_mul_ps(sz, bz))),
         _mm256_mul_ps(W, _mm256_mul_ps(sz, cz)));
     const __m256 inv_det = _mm256_div_ps(_mm256_set1_ps(1.0f), det);
     const __m256 t = _mm256_mul_ps(T3, inv_det);
-    __m256 ok = _mm256_andnot_ps(_mm256_and_ps(anyneg, anypos), _mm256_cmp_ps(det, zero, _CMP_NEQ_UQ));
+    __m256 ok = _mm256_andnot_ps(e.out, _mm256_cmp_ps(det, zero, _CMP_NEQ_UQ));
     ok = _mm256_and_ps(ok, _mm256_cmp_ps(t, _mm256_set1_ps(r->tmin), _CMP_GE_OQ));
     ok = _mm256_and_ps(ok, _mm256_cmp_ps(t, _mm256_set1_ps(tmax), _CMP_LT_OQ));
     /* NaN lanes compare unequal to zero: never re-tested. */
@@ -149,39 +174,11 @@ TT_TRI_KERNEL void kd_bray_init(kd_bray *q, const tt_wray *r)
 TT_TRI_KERNEL int kd_block8_any(const tt_kd_view *T, const tt_tri_block *b, const tt_wray *r,
                                 const kd_bray *q)
 {
-    const int kx = r->kx, ky = r->ky, kz = r->kz;
-    const __m256 ax = _mm256_sub_ps(_mm256_load_ps(b->v[kx]), q->ox),
-                 ay = _mm256_sub_ps(_mm256_load_ps(b->v[ky]), q->oy),
-                 az = _mm256_sub_ps(_mm256_load_ps(b->v[kz]), q->oz);
-    const __m256 bx = _mm256_sub_ps(_mm256_load_ps(b->v[3 + kx]), q->ox),
-                 by = _mm256_sub_ps(_mm256_load_ps(b->v[3 + ky]), q->oy),
-                 bz = _mm256_sub_ps(_mm256_load_ps(b->v[3 + kz]), q->oz);
-    const __m256 cx = _mm256_sub_ps(_mm256_load_ps(b->v[6 + kx]), q->ox),
-                 cy = _mm256_sub_ps(_mm256_load_ps(b->v[6 + ky]), q->oy),
-                 cz = _mm256_sub_ps(_mm256_load_ps(b->v[6 + kz]), q->oz);
-    const __m256 Ax = _mm256_sub_ps(ax, _mm256_mul_ps(q->sx, az)),
-                 Ay = _mm256_sub_ps(ay, _mm256_mul_ps(q->sy, az));
-    const __m256 Bx = _mm256_sub_ps(bx, _mm256_mul_ps(q->sx, bz)),
-                 By = _mm256_sub_ps(by, _mm256_mul_ps(q->sy, bz));
-    const __m256 Cx = _mm256_sub_ps(cx, _mm256_mul_ps(q->sx, cz)),
-                 Cy = _mm256_sub_ps(cy, _mm256_mul_ps(q->sy, cz));
-    const __m256 U = _mm256_sub_ps(_mm256_mul_ps(Cx, By), _mm256_mul_ps(Cy, Bx));
-    const __m256 V = _mm256_sub_ps(_mm256_mul_ps(Ax, Cy), _mm256_mul_ps(Ay, Cx));
-    const __m256 W = _mm256_sub_ps(_mm256_mul_ps(Bx, Ay), _mm256_mul_ps(By, Ax));
-    const __m256 zero = _mm256_setzero_ps();
-    const __m256 anyzero =
-        _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(U, zero, _CMP_EQ_OQ), _mm256_cmp_ps(V, zero, _CMP_EQ_OQ)),
-                     _mm256_cmp_ps(W, zero, _CMP_EQ_OQ));
-    const __m256 anyneg =
-        _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(U, zero, _CMP_LT_OQ), _mm256_cmp_ps(V, zero, _CMP_LT_OQ)),
-                     _mm256_cmp_ps(W, zero, _CMP_LT_OQ));
-    const __m256 anypos =
-        _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(U, zero, _CMP_GT_OQ), _mm256_cmp_ps(V, zero, _CMP_GT_OQ)),
-                     _mm256_cmp_ps(W, zero, _CMP_GT_OQ));
-    const __m256 det = _mm256_add_ps(_mm256_add_ps(U, V), W);
-    const unsigned redo = (unsigned)_mm256_movemask_ps(anyzero);
-    const __m256 maybe =
-        _mm256_andnot_ps(_mm256_and_ps(anyneg, anypos), _mm256_cmp_ps(det, zero, _CMP_NEQ_OQ));
+    kd_edges8 e;
+    kd_block8_edges(b, r->kx, r->ky, r->kz, q->ox, q->oy, q->oz, q->sx, q->sy, &e);
+    const __m256 U = e.U, V = e.V, W = e.W, det = e.det, az = e.az, bz = e.bz, cz = e.cz;
+    const unsigned redo = e.redo;
+    const __m256 maybe = _mm256_andnot_ps(e.out, _mm256_cmp_ps(det, _mm256_setzero_ps(), _CMP_NEQ_OQ));
     const unsigned cand = (unsigned)_mm256_movemask_ps(maybe) & ~redo;
     if (!(cand | redo)) return 0;
     if (cand) {

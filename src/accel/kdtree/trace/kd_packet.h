@@ -178,14 +178,30 @@ typedef struct kp_entry {
 #define KP_TRI_ID(blk, i) ((blk)[(i) >> 3].prim[(i) & 7u])
 _Static_assert(TT_TRI_BLOCK_W == 8, "KP_TRI: eight triangles a block");
 
-/* A leaf's triangles (count of them, blocks blk) against the lanes mm of
- * one vector of rays: origin (ox, oy, oz) in the group's (kx, ky, kz)
- * order, shear (sx, sy, sz), tmin, the best t so far *pbt; u, v, prim of
- * the lanes in the arrays bu, bv, bp (PK_L each, updated where a lane's
- * best changes); src[l] the lane's row in R (the zero-edge
- * recomputation). Returns the lanes that hit (any = 1: occluded) or whose
- * best changed (any = 0). Zero-area triangles are NaN in the blocks: every
- * lane fails their t test, as tt_intersect_triangle refuses them. */
+/* tt_intersect_triangle's sheared edge functions U, V, W, in its order of
+ * operations, for the vertex rows tv (a.x .. c.z) against origin (ox, oy,
+ * oz) in the (kx, ky, kz) order and shear (sx, sy); the depths az, bz, cz
+ * stay for t. Shared by kp_tri1 and kp_multi. */
+KP_INLINE void TT_VARIANT(KD_FN(kp_edges))(const pk_v *tv, const int kx, const int ky,
+                                             const int kz, const pk_v ox, const pk_v oy,
+                                             const pk_v oz, const pk_v sx, const pk_v sy,
+                                             pk_v *U, pk_v *V, pk_v *W, pk_v *az, pk_v *bz,
+                                             pk_v *cz)
+{
+    const pk_v ax = PK_SUB(tv[kx], ox), ay = PK_SUB(tv[ky], oy);
+    const pk_v bx = PK_SUB(tv[3 + kx], ox), by = PK_SUB(tv[3 + ky], oy);
+    const pk_v cx = PK_SUB(tv[6 + kx], ox), cy = PK_SUB(tv[6 + ky], oy);
+    *az = PK_SUB(tv[kz], oz);
+    *bz = PK_SUB(tv[3 + kz], oz);
+    *cz = PK_SUB(tv[6 + kz], oz);
+    const pk_v Ax = PK_SUB(ax, PK_MUL(sx, *az)), Ay = PK_SUB(ay, PK_MUL(sy, *az));
+    const pk_v Bx = PK_SUB(bx, PK_MUL(sx, *bz)), By = PK_SUB(by, PK_MUL(sy, *bz));
+    const pk_v Cx = PK_SUB(cx, PK_MUL(sx, *cz)), Cy = PK_SUB(cy, PK_MUL(sy, *cz));
+    *U = PK_SUB(PK_MUL(Cx, By), PK_MUL(Cy, Bx));
+    *V = PK_SUB(PK_MUL(Ax, Cy), PK_MUL(Ay, Cx));
+    *W = PK_SUB(PK_MUL(Bx, Ay), PK_MUL(By, Ax));
+}
+
 /* Triangle id's coordinates tv (a.x .. c.z, broadcast) against the lanes
  * *pmm of one vector of rays (kp_tris' arguments); hits (any = 1) leave
  * *pmm, and the lanes that hit or whose best changed are added to *pout. */
@@ -200,17 +216,8 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_tri1))(const tt_kd_view *T, const pk_v *tv, u
 {
     const pk_v zero = PK_SET1(0.0f), one = PK_SET1(1.0f);
     const uint32_t mm = *pmm;
-    const pk_v ax = PK_SUB(tv[kx], ox), ay = PK_SUB(tv[ky], oy), az = PK_SUB(tv[kz], oz);
-    const pk_v bx = PK_SUB(tv[3 + kx], ox), by = PK_SUB(tv[3 + ky], oy),
-               bz = PK_SUB(tv[3 + kz], oz);
-    const pk_v cx = PK_SUB(tv[6 + kx], ox), cy = PK_SUB(tv[6 + ky], oy),
-               cz = PK_SUB(tv[6 + kz], oz);
-    const pk_v Ax = PK_SUB(ax, PK_MUL(sx, az)), Ay = PK_SUB(ay, PK_MUL(sy, az));
-    const pk_v Bx = PK_SUB(bx, PK_MUL(sx, bz)), By = PK_SUB(by, PK_MUL(sy, bz));
-    const pk_v Cx = PK_SUB(cx, PK_MUL(sx, cz)), Cy = PK_SUB(cy, PK_MUL(sy, cz));
-    const pk_v U = PK_SUB(PK_MUL(Cx, By), PK_MUL(Cy, Bx));
-    const pk_v V = PK_SUB(PK_MUL(Ax, Cy), PK_MUL(Ay, Cx));
-    const pk_v W = PK_SUB(PK_MUL(Bx, Ay), PK_MUL(By, Ax));
+    pk_v U, V, W, az, bz, cz;
+    TT_VARIANT(KD_FN(kp_edges))(tv, kx, ky, kz, ox, oy, oz, sx, sy, &U, &V, &W, &az, &bz, &cz);
     uint32_t zl =
         PK_BITS(PK_MOR(PK_MOR(PK_CMP_EQ(U, zero), PK_CMP_EQ(V, zero)), PK_CMP_EQ(W, zero))) & mm;
     /* Inside: no edge function < 0 while another is > 0. Away from
@@ -420,17 +427,9 @@ KP_INLINE void TT_VARIANT(KD_FN(kp_multi))(const tt_kd_view *T, kp_rays *P, uint
         }
         const uint32_t nt = count - i0 < per ? count - i0 : per;
         const uint32_t act = ((nt << lg) >= 32u ? ~0u : (1u << (nt << lg)) - 1u) & (rep * open);
-        const pk_v ax = PK_SUB(tv[kx], ox), ay = PK_SUB(tv[ky], oy), az = PK_SUB(tv[kz], oz);
-        const pk_v bx = PK_SUB(tv[3 + kx], ox), by = PK_SUB(tv[3 + ky], oy),
-                   bz = PK_SUB(tv[3 + kz], oz);
-        const pk_v cx = PK_SUB(tv[6 + kx], ox), cy = PK_SUB(tv[6 + ky], oy),
-                   cz = PK_SUB(tv[6 + kz], oz);
-        const pk_v Ax = PK_SUB(ax, PK_MUL(sx, az)), Ay = PK_SUB(ay, PK_MUL(sy, az));
-        const pk_v Bx = PK_SUB(bx, PK_MUL(sx, bz)), By = PK_SUB(by, PK_MUL(sy, bz));
-        const pk_v Cx = PK_SUB(cx, PK_MUL(sx, cz)), Cy = PK_SUB(cy, PK_MUL(sy, cz));
-        const pk_v U = PK_SUB(PK_MUL(Cx, By), PK_MUL(Cy, Bx));
-        const pk_v V = PK_SUB(PK_MUL(Ax, Cy), PK_MUL(Ay, Cx));
-        const pk_v W = PK_SUB(PK_MUL(Bx, Ay), PK_MUL(By, Ax));
+        pk_v U, V, W, az, bz, cz;
+        TT_VARIANT(KD_FN(kp_edges))(tv, kx, ky, kz, ox, oy, oz, sx, sy, &U, &V, &W, &az, &bz,
+                                    &cz);
         uint32_t zl =
             PK_BITS(PK_MOR(PK_MOR(PK_CMP_EQ(U, zero), PK_CMP_EQ(V, zero)), PK_CMP_EQ(W, zero))) &
             act;
