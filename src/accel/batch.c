@@ -432,6 +432,45 @@ static uint32_t gather_found_tile(const plan *p, long item, const tt_ray_arrays 
     return np;
 }
 
+/* An image tile (image_width given) whose TILE x TILE rays all lie in the
+ * batch. */
+static inline int image_tile_whole(const plan *p, long item)
+{
+    if (!p->width) return 0;
+    const size_t tx = (size_t)item % p->tiles_x, ty = (size_t)item / p->tiles_x;
+    return (tx + 1u) * TILE <= p->width && (ty + 1u) * TILE * p->width <= p->n;
+}
+
+/* A whole image tile into rows (image_tile_whole) in blocks of IMAGE_COLS
+ * columns by its TILE rows, four rays at a time (load4_rows_aos), instead
+ * of row by row with a scalar copy a float. A kernel walk of 16 or 32 rays
+ * is then 4 x 4 or 4 x 8 pixels instead of one or two image rows of 16:
+ * the kd-tree's packet walks visit 4-15% fewer nodes (the counting
+ * variant, primary rays of bunny, sibenik, conference; 4 columns fewer than
+ * 8 on AVX2, level on AVX-512). The R-tree's packets take the whole tile
+ * at once: the same visits, only the faster gathering. */
+#define IMAGE_COLS 4u
+_Static_assert(IMAGE_COLS % 4u == 0 && TILE % IMAGE_COLS == 0, "blocks of four rays");
+static uint32_t gather_image_tile(const plan *p, long item, const tt_ray *aos,
+                                  tt_packet_rays *pr, size_t *idx, int *quick)
+{
+    size_t first, len, rows, pitch;
+    plan_item(p, item, &first, &len, &rows, &pitch);
+    uint32_t np = 0;
+    int ok = 1;
+    for (size_t x0 = 0; x0 < TILE; x0 += IMAGE_COLS)
+        for (size_t r = 0; r < TILE; r++)
+            for (size_t q0 = 0; q0 < IMAGE_COLS; q0 += 4u) {
+                const size_t i = first + r * pitch + x0 + q0;
+                ok &= load4_rows_aos(&aos[i], pr, np);
+                for (uint32_t q = 0; q < 4u; q++) idx[np + q] = i + q;
+                np += 4u;
+            }
+    /* 1: every row passed load4_rows_aos's quick test */
+    *quick = ok;
+    return np;
+}
+
 /* check_ray's quick test over a packet's rows at once, in a loop the
  * compiler vectorises: 1 when every ray passes it (the common case; a ray
  * failing it may still be valid, and check_ray decides). */
@@ -574,6 +613,8 @@ static tt_status run_batch(const tt_accel *accel, const tt_ray_arrays *rays, siz
                 int quick = 0;
                 if (found) {
                     np = gather_found_tile(&p, c, rays, aos, pr, pidx, &quick);
+                } else if (aos && image_tile_whole(&p, c)) {
+                    np = gather_image_tile(&p, c, aos, pr, pidx, &quick);
                 } else if (aos) {
                     FOR_EACH_RAY(&p, c, i) {
                         /* runs (no image width): the ray 128 ahead
