@@ -45,14 +45,22 @@ void kd_sweep(const kd_builder *b, const uint64_t *ev, size_t n_ev, uint32_t n,
     kd_split mine = *best;
     uint32_t nl = 0, nr = n;
     size_t i = 0;
+    /* A position's counts in one register: planars in the low half,
+     * starts in the high half (a list holds fewer than 2^32 events); the
+     * ends are the rest of the position's events. A counter array in
+     * memory chained every event through a store and a load. */
+    static const uint64_t inc[4] = {0, 1, (uint64_t)1 << 32, 0};
+    _Static_assert(KD_END == 0 && KD_PLANAR == 1 && KD_START == 2, "event types");
     while (i < n_ev) {
         /* All events at one position: ends, planars, starts (their order in
          * the sorted list). */
         const uint32_t key = kd_event_poskey(ev[i]);
-        uint32_t count[4] = {0, 0, 0, 0};
-        do count[kd_event_type(ev[i++])]++;
+        const size_t first = i;
+        uint64_t acc = 0;
+        do acc += inc[kd_event_type(ev[i++])];
         while (i < n_ev && kd_event_poskey(ev[i]) == key);
-        const uint32_t ends = count[KD_END], planars = count[KD_PLANAR], starts = count[KD_START];
+        const uint32_t planars = (uint32_t)acc, starts = (uint32_t)(acc >> 32);
+        const uint32_t ends = (uint32_t)(i - first) - planars - starts;
         nr -= planars + ends;
         const float p = kd_key_float(key);
         /* Only planes strictly inside the cell: a plane on a face would cut
