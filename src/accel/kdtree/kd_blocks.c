@@ -37,7 +37,8 @@ size_t tt_kdtree_blocks_memory(const tt_kdtree *t)
     if (!t->block_nodes) return 0;
     return (size_t)t->node_slots * sizeof(tt_kd_node) +
            (size_t)t->block_count * sizeof(tt_tri_block) +
-           (size_t)t->line_count * sizeof(tt_kd_line);
+           (size_t)t->line_count * sizeof(tt_kd_line) +
+           (size_t)t->line_small * sizeof(tt_kd_block4);
 }
 
 tt_status tt_kdtree_blocks_build(tt_context *ctx, tt_kdtree *t, const float *tri)

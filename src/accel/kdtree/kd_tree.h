@@ -51,6 +51,7 @@ typedef struct tt_kdtree {
      * (kd_lines.h; block_view.lines points inside line_mem), or none. */
     void *line_mem;
     uint32_t line_count;
+    uint32_t line_small; /* tt_kd_block4's after the lines               */
 } tt_kdtree;
 
 /* Builds the tree for accel->scene with accel->options.kdtree (validated

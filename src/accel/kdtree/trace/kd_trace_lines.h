@@ -10,11 +10,19 @@
  * rays that move along every axis; the others take tt_kd_htr_general. A
  * stack entry names a position: line << 4 | h. */
 
+/* A small leaf's 4-lane block (kd_lines.h). */
+static inline const tt_kd_block4 *kd_lines_small(const tt_kd_view *T, uint32_t x)
+{
+    return (const tt_kd_block4 *)((const char *)T->lines + ((size_t)(x & TT_KD_LINE_INDEX) << 5));
+}
+
 static inline int kd_lines_leaf(const tt_kd_view *T, uint32_t x, const tt_wray *r, int any,
                                 tt_kd_best *best)
 {
     tt_kd_node leaf;
-    const uint32_t n = (x >> 27) & TT_KD_LINE_NMAX;
+    const uint32_t n = (x >> 27) & 15u;
+    if (n == TT_KD_LINE_SMALL)
+        return kd_leaf_block4(T, kd_lines_small(T, x), r, any, best);
     if (n) {
         leaf.u.first = x & TT_KD_LINE_INDEX;
         leaf.bits = (n * TT_TRI_BLOCK_W) << 3 | TT_KD_LEAF; /* n blocks' lanes */
@@ -28,7 +36,8 @@ static inline int kd_lines_leaf(const tt_kd_view *T, uint32_t x, const tt_wray *
 TT_TRI_KERNEL int kd_lines_leaf_any(const tt_kd_view *T, uint32_t x, const tt_wray *r,
                                     const kd_bray *q)
 {
-    const uint32_t n = (x >> 27) & TT_KD_LINE_NMAX;
+    const uint32_t n = (x >> 27) & 15u;
+    if (n == TT_KD_LINE_SMALL) return kd_block4_any(T, kd_lines_small(T, x), r, q);
     if (n) return kd_leaf_block_any(T, x & TT_KD_LINE_INDEX, n, r, q);
     const tt_kd_node leaf = T->nodes[x & TT_KD_LINE_INDEX];
     return kd_leaf_block_any(T, leaf.u.first, tt_tri_block_count(tt_kd_leaf_count(leaf.bits)), r,
