@@ -186,8 +186,9 @@ int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads);
  * walk; also a packed tree that has no pointer tree yet): every record's
  * boxes and every leaf's lanes from the scene's triangles tri; tri_box
  * (or NULL) gets the boxes of degenerate triangles; *lev_rec / *lev_cap a
- * buffer kept between calls; *cost a SAH-like estimate (leaf areas x
- * (count + 1) plus entry areas, over the root's). 0: not done (height 0
+ * buffer kept between calls; *cost a SAH-like estimate of the levels
+ * above the leaves (the areas of level-1 and higher nodes, over the
+ * root's), for the envelope rebuild's trigger. 0: not done (height 0
  * or out of memory), nothing written. */
 int rt_compact_deform(tt_context *ctx, const tt_rtc *c, const float *tri, float *tri_box,
                       uint32_t **lev_rec, uint32_t *lev_cap, int threads, double *cost);

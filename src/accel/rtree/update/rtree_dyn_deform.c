@@ -92,36 +92,33 @@ static inline void deform_leaf(float *tri_box, tt_tri_block *blk, const float *t
 #endif
 }
 
-static float half_area(const float *b, uint32_t S, uint32_t i)
+static inline float half_area(const float b[6])
 {
-    const float x = b[3 * S + i] - b[i], y = b[4 * S + i] - b[S + i], z = b[5 * S + i] - b[2 * S + i];
+    const float x = b[3] - b[0], y = b[4] - b[1], z = b[5] - b[2];
     return x * y + y * z + z * x;
 }
 
-/* Level-1 record r: its leaves refit, their boxes into its rows; returns
- * the leaves' part of the cost estimate (area x (count + 1)). */
-static double deform_record(float *tri_box, const tt_rtc *c, const float *tri, uint32_t r)
+/* Level-1 record r: its leaves refit, their boxes into its rows. */
+static void deform_record(float *tri_box, const tt_rtc *c, const float *tri, uint32_t r)
 {
     float *rec = (float *)tt_rtc_node(c, r);
     const uint32_t *ref = tt_rtc_child(c, rec);
     const uint32_t cnt = tt_rtc_count(c, rec), S = c->S;
     tt_tri_block *blk = (tt_tri_block *)c->block;
-    double cost = 0.0;
     for (uint32_t i = 0; i < cnt; i++) {
         float cb[6];
         const uint64_t g0 =
             (uint64_t)tt_rtc_leaf_block(ref[i]) * TT_TRI_BLOCK_W + tt_rtc_leaf_lane(ref[i]);
-        const uint32_t n = tt_rtc_leaf_count(ref[i]);
-        deform_leaf(tri_box, blk, tri, g0, n, cb);
+        deform_leaf(tri_box, blk, tri, g0, tt_rtc_leaf_count(ref[i]), cb);
         for (uint32_t k = 0; k < 6; k++) rec[k * S + i] = cb[k];
-        cost += (double)half_area(rec, S, i) * (double)(n + 1);
     }
-    return cost;
 }
 
 /* Record r above level 1: entry i's box the union of child record i's
  * entries (a record's slots past its count already hold the free mark,
- * and the count does not change here); returns the entries' areas. */
+ * and the count does not change here); returns the entries' areas (the
+ * cost estimate's part: a leaves' term cost ~0.5 M instructions a bunny
+ * frame, a tenth of the walk, and the upper levels drift with them). */
 static double refit_record(const tt_rtc *c, uint32_t r)
 {
     float *rec = (float *)tt_rtc_node(c, r);
@@ -131,6 +128,7 @@ static double refit_record(const tt_rtc *c, uint32_t r)
     for (uint32_t i = 0; i < cnt; i++) {
         const float *cr = tt_rtc_node(c, ref[i]);
         const uint32_t cc = tt_rtc_count(c, cr);
+        float eb[6];
         for (uint32_t k = 0; k < 3; k++) {
             const float *rl = cr + k * S, *rh = cr + (k + 3) * S;
             float lo = TT_INF, hi = -TT_INF;
@@ -140,8 +138,10 @@ static double refit_record(const tt_rtc *c, uint32_t r)
             }
             rec[k * S + i] = lo;
             rec[(k + 3) * S + i] = hi;
+            eb[k] = lo;
+            eb[k + 3] = hi;
         }
-        cost += (double)half_area(rec, S, i);
+        cost += (double)half_area(eb);
     }
     return cost;
 }
@@ -172,8 +172,8 @@ int rt_compact_deform(tt_context *ctx, const tt_rtc *c, const float *tri, float 
     double sum = 0.0;
     /* level 1: the leaves, on the threads (regions are disjoint; in the
      * packer's layout two records may share a block, but never a lane) */
-#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1) reduction(+ : sum)
-    for (long k = 0; k < n1; k++) sum += deform_record(tri_box, c, tri, lev[start[1] + (uint32_t)k]);
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+    for (long k = 0; k < n1; k++) deform_record(tri_box, c, tri, lev[start[1] + (uint32_t)k]);
     /* above: few records (a sixteenth per level), one thread */
     for (uint32_t lv = 2; lv <= height; lv++)
         for (uint32_t k = start[lv]; k < start[lv + 1]; k++) sum += refit_record(c, lev[k]);
@@ -185,8 +185,7 @@ int rt_compact_deform(tt_context *ctx, const tt_rtc *c, const float *tri, float 
             rb[k] = rt_min(rb[k], root[k * c->S + i]);
             rb[k + 3] = rt_max(rb[k + 3], root[(k + 3) * c->S + i]);
         }
-    const double ra = (double)((rb[3] - rb[0]) * (rb[4] - rb[1]) + (rb[4] - rb[1]) * (rb[5] - rb[2]) +
-                               (rb[5] - rb[2]) * (rb[3] - rb[0]));
+    const double ra = (double)half_area(rb);
     *cost = ra > 0.0 ? sum / ra : 0.0;
     return 1;
 }
