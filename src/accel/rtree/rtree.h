@@ -38,7 +38,7 @@ typedef struct rt_tree {
      * and deformations since */
     uint32_t *lev_rec, lev_cap;
     float *env;
-    uint32_t env_left, since_build;
+    uint32_t env_left, since_build, env_gap;
     double cost_base;
     double insert_s, pack_s;
 } rt_tree;
