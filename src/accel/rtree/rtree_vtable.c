@@ -418,9 +418,9 @@ static size_t pure_deformation(const tt_scene *scene, uint64_t since)
  * refit's cost estimate has grown ENV_TRIGGER over the estimate after the
  * last build, the boxes of the next ENV_FRAMES deformations are gathered,
  * and the tree is then built again from them by the SAH loader and refit
- * to the frame, and kept if its whole cost (tree_cost, leaves included) is
- * ENV_KEEP of the old tree's or less; at most once in ENV_GAP deformations (doubled by each rebuild not
- * kept). */
+ * to the frame, and kept if its whole cost (tree_cost, leaves included)
+ * is ENV_KEEP of the old tree's or less; at most once in ENV_GAP
+ * deformations (doubled by each rebuild not kept). */
 #define ENV_FRAMES 8u
 #define ENV_TRIGGER 1.15
 #define ENV_GAP 24u
