@@ -127,6 +127,26 @@ static void frames_on_bunny(tt_context *ctx)
         CHECK_OK(ctx, tt_scene_move_vertices(scene, NULL, pos, V));
         verify(ctx, scene, bf, s, n, "deform", f);
     }
+    /* a long deformation whose wave grows: the refit's cost estimate grows
+     * past the envelope rebuild's trigger (rtree_vtable.c), the tree is
+     * built again from 8 frames' boxes mid-run, and an edit after it makes
+     * the pointer tree from the new records */
+    for (int f = 7; f <= 48; f++) {
+        for (size_t v = 0; v < V; v++) {
+            const float *p = base + 3 * v;
+            const float w = 0.002f * diag * sinf(0.7f * (float)f + 40.0f * p[1] / diag);
+            pos[3 * v] = p[0] + w * (float)f;
+            pos[3 * v + 1] = p[1];
+            pos[3 * v + 2] = p[2];
+        }
+        CHECK_OK(ctx, tt_scene_move_vertices(scene, NULL, pos, V));
+        if (f % 4 == 0 || f >= 30) verify(ctx, scene, bf, s, n, "long deform", f);
+        else
+            for (int i = 0; i < n; i++) CHECK_OK(ctx, tt_accel_update(s[i].a));
+    }
+    memcpy(pos, base, V * 3 * sizeof(float));
+    CHECK_OK(ctx, tt_scene_move_vertices(scene, NULL, pos, V));
+    verify(ctx, scene, bf, s, n, "long deform: back", 0);
     /* a few vertices moved far (few triangles: the jump path) */
     {
         uint32_t ids[5];

@@ -31,6 +31,15 @@ typedef struct rt_tree {
     /* the pointer tree of a changing scene, from the first tt_accel_update
      * on (rtree/update/rtree_dyn.h; NULL before) */
     struct rt_dyn *dyn;
+    /* deformations before any pointer tree (rtree_vtable.c's update): the
+     * records by level; and the motion envelope rebuild: a triangle's box
+     * over the last frames (env, 6 floats an id, NULL when not gathering),
+     * frames still to gather, the cost estimate after the last (re)build
+     * and deformations since */
+    uint32_t *lev_rec, lev_cap;
+    float *env;
+    uint32_t env_left, since_build, env_gap;
+    double cost_base;
     double insert_s, pack_s;
 } rt_tree;
 

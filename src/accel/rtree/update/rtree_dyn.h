@@ -105,6 +105,8 @@ typedef struct rt_dyn {
     int lanes_trust;
     uint32_t *ids; /* an update's changed ids */
     uint32_t *lev_rec, lev_cap; /* a deformation's records by level */
+    double last_cost; /* rt_compact_deform's estimate of the last deformation */
+    int last_deform;  /* the last update was a pure deformation */
     size_t ids_cap;
 } rt_dyn;
 
@@ -180,6 +182,16 @@ int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads);
 /* After deformations (boxes_stale): tri_box of every id in a lane that is
  * not degenerate from the lane's vertices (the deformation wrote only the
  * degenerate ones' boxes), as of the last update. */
+/* A pure deformation refit straight on compact records (rt_dyn_deform's
+ * walk; also a packed tree that has no pointer tree yet): every record's
+ * boxes and every leaf's lanes from the scene's triangles tri; tri_box
+ * (or NULL) gets the boxes of degenerate triangles; *lev_rec / *lev_cap a
+ * buffer kept between calls; *cost a SAH-like estimate of the levels
+ * above the leaves (the areas of level-1 and higher nodes, over the
+ * root's), for the envelope rebuild's trigger. 0: not done (height 0
+ * or out of memory), nothing written. */
+int rt_compact_deform(tt_context *ctx, const tt_rtc *c, const float *tri, float *tri_box,
+                      uint32_t **lev_rec, uint32_t *lev_cap, int threads, double *cost);
 void rt_dyn_boxes_from_lanes(rt_dyn *d, const rtc_tree *t);
 
 /* The whole update: the ids stamped after `since` (tt_accel_update). */

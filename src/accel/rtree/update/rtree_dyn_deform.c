@@ -26,7 +26,7 @@
  * (a run of deformations never does; the stores were a tenth of the
  * walk's instructions and a megabyte and a half of writes a frame on the
  * bunny). */
-static inline void deform_leaf(rt_dyn *d, tt_tri_block *blk, const float *tri, uint64_t g0,
+static inline void deform_leaf(float *tri_box, tt_tri_block *blk, const float *tri, uint64_t g0,
                                uint32_t cnt, float out[6])
 {
 #if defined(__SSE2__)
@@ -69,9 +69,9 @@ static inline void deform_leaf(rt_dyn *d, tt_tri_block *blk, const float *tri, u
 #if !defined(__SSE2__)
         const int dead = tt_tri_is_degenerate(v, v + 3, v + 6);
 #endif
-        if (dead) { /* rare: its box again, scalar */
-            float *bx = d->tri_box + 6 * (size_t)id;
-            for (int k = 0; k < 3; k++) {
+        if (dead) { /* rare: its box again, scalar (no tri_box: none kept) */
+            float *bx = tri_box ? tri_box + 6 * (size_t)id : NULL;
+            for (int k = 0; k < 3 && bx; k++) {
                 bx[k] = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
                 bx[k + 3] = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
             }
@@ -92,8 +92,14 @@ static inline void deform_leaf(rt_dyn *d, tt_tri_block *blk, const float *tri, u
 #endif
 }
 
+static inline float half_area(const float b[6])
+{
+    const float x = b[3] - b[0], y = b[4] - b[1], z = b[5] - b[2];
+    return x * y + y * z + z * x;
+}
+
 /* Level-1 record r: its leaves refit, their boxes into its rows. */
-static void deform_record(rt_dyn *d, const tt_rtc *c, const float *tri, uint32_t r)
+static void deform_record(float *tri_box, const tt_rtc *c, const float *tri, uint32_t r)
 {
     float *rec = (float *)tt_rtc_node(c, r);
     const uint32_t *ref = tt_rtc_child(c, rec);
@@ -103,22 +109,26 @@ static void deform_record(rt_dyn *d, const tt_rtc *c, const float *tri, uint32_t
         float cb[6];
         const uint64_t g0 =
             (uint64_t)tt_rtc_leaf_block(ref[i]) * TT_TRI_BLOCK_W + tt_rtc_leaf_lane(ref[i]);
-        deform_leaf(d, blk, tri, g0, tt_rtc_leaf_count(ref[i]), cb);
+        deform_leaf(tri_box, blk, tri, g0, tt_rtc_leaf_count(ref[i]), cb);
         for (uint32_t k = 0; k < 6; k++) rec[k * S + i] = cb[k];
     }
 }
 
 /* Record r above level 1: entry i's box the union of child record i's
  * entries (a record's slots past its count already hold the free mark,
- * and the count does not change here). */
-static void refit_record(const tt_rtc *c, uint32_t r)
+ * and the count does not change here); returns the entries' areas (the
+ * cost estimate's part: a leaves' term cost ~0.5 M instructions a bunny
+ * frame, a tenth of the walk, and the upper levels drift with them). */
+static double refit_record(const tt_rtc *c, uint32_t r)
 {
     float *rec = (float *)tt_rtc_node(c, r);
     const uint32_t *ref = tt_rtc_child(c, rec);
     const uint32_t cnt = tt_rtc_count(c, rec), S = c->S;
+    double cost = 0.0;
     for (uint32_t i = 0; i < cnt; i++) {
         const float *cr = tt_rtc_node(c, ref[i]);
         const uint32_t cc = tt_rtc_count(c, cr);
+        float eb[6];
         for (uint32_t k = 0; k < 3; k++) {
             const float *rl = cr + k * S, *rh = cr + (k + 3) * S;
             float lo = TT_INF, hi = -TT_INF;
@@ -128,25 +138,25 @@ static void refit_record(const tt_rtc *c, uint32_t r)
             }
             rec[k * S + i] = lo;
             rec[(k + 3) * S + i] = hi;
+            eb[k] = lo;
+            eb[k + 3] = hi;
         }
+        cost += (double)half_area(eb);
     }
+    return cost;
 }
 
-int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads)
+int rt_compact_deform(tt_context *ctx, const tt_rtc *c, const float *tri, float *tri_box,
+                      uint32_t **lev_rec, uint32_t *lev_cap, int threads, double *cost)
 {
-    rt_builder *b = &d->b;
-    const tt_rtc *c = &t->c;
-    /* the general path: a lone leaf as root, a layout still to be written,
-     * or the packer's layout (whose level-1 nodes may share blocks) */
-    if (b->hdr[b->root].level == 0 || d->must_repack || !d->slack) return 0;
     const uint32_t nodes = c->nodes, height = c->height;
     if (height == 0 || height > 255) return 0;
     /* the used records by level (free ones have level 0): counting sort */
-    if (nodes > d->lev_cap) {
-        uint32_t *l = tt_realloc_array(b->ctx, d->lev_rec, nodes, sizeof *l);
+    if (nodes > *lev_cap) {
+        uint32_t *l = tt_realloc_array(ctx, *lev_rec, nodes, sizeof *l);
         if (!l) return 0; /* the general path needs no buffer */
-        d->lev_rec = l;
-        d->lev_cap = nodes;
+        *lev_rec = l;
+        *lev_cap = nodes;
     }
     uint32_t start[257] = {0};
     for (uint32_t r = 0; r < nodes; r++) start[tt_rtc_level(c, tt_rtc_node(c, r)) + 1]++;
@@ -155,17 +165,40 @@ int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads)
     memcpy(fill, start, sizeof fill);
     for (uint32_t r = 0; r < nodes; r++) {
         const uint32_t lv = tt_rtc_level(c, tt_rtc_node(c, r));
-        if (lv) d->lev_rec[fill[lv]++] = r;
+        if (lv) (*lev_rec)[fill[lv]++] = r;
     }
-    const uint32_t *lev = d->lev_rec;
-    const float *tri = scene->tri;
+    const uint32_t *lev = *lev_rec;
     const long n1 = (long)(start[2] - start[1]);
-    /* level 1: the leaves, on the threads (regions are disjoint) */
+    double sum = 0.0;
+    /* level 1: the leaves, on the threads (regions are disjoint; in the
+     * packer's layout two records may share a block, but never a lane) */
 #pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
-    for (long k = 0; k < n1; k++) deform_record(d, c, tri, lev[start[1] + (uint32_t)k]);
+    for (long k = 0; k < n1; k++) deform_record(tri_box, c, tri, lev[start[1] + (uint32_t)k]);
     /* above: few records (a sixteenth per level), one thread */
     for (uint32_t lv = 2; lv <= height; lv++)
-        for (uint32_t k = start[lv]; k < start[lv + 1]; k++) refit_record(c, lev[k]);
+        for (uint32_t k = start[lv]; k < start[lv + 1]; k++) sum += refit_record(c, lev[k]);
+    /* the estimate relative to the root record's box (its entries' union) */
+    const float *root = tt_rtc_node(c, lev[start[height]]);
+    float rb[6] = {TT_INF, TT_INF, TT_INF, -TT_INF, -TT_INF, -TT_INF};
+    for (uint32_t i = 0; i < tt_rtc_count(c, root); i++)
+        for (uint32_t k = 0; k < 3; k++) {
+            rb[k] = rt_min(rb[k], root[k * c->S + i]);
+            rb[k + 3] = rt_max(rb[k + 3], root[(k + 3) * c->S + i]);
+        }
+    const double ra = (double)half_area(rb);
+    *cost = ra > 0.0 ? sum / ra : 0.0;
+    return 1;
+}
+
+int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads)
+{
+    rt_builder *b = &d->b;
+    /* the general path: a lone leaf as root, a layout still to be written,
+     * or the packer's layout (whose level-1 nodes may share blocks) */
+    if (b->hdr[b->root].level == 0 || d->must_repack || !d->slack) return 0;
+    if (!rt_compact_deform(b->ctx, &t->c, scene->tri, d->tri_box, &d->lev_rec, &d->lev_cap,
+                           threads, &d->last_cost))
+        return 0;
     d->boxes_stale = 1;
     return 1;
 }

@@ -77,6 +77,7 @@ static void deformed(rt_dyn *d, size_t moved, double t0)
     d->last_removed = d->last_inserted = d->last_moved_far = 0;
     d->last_tree_s = tt_now() - t0;
     d->last_layout_s = 0.0;
+    d->last_deform = 1;
     d->updates++;
 }
 
@@ -87,6 +88,7 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
     /* deletions leave leaves of one triangle (rt_dyn_delete): the check's
      * fill minimum follows */
     t->m = 1;
+    d->last_deform = 0;
     double t0 = tt_now();
     tt_status st = rt_dyn_reserve_ids(d, T ? T : 1);
     if (st != TT_OK) return st;
