@@ -192,6 +192,13 @@ int rt_dyn_deform(rt_dyn *d, rtc_tree *t, const tt_scene *scene, int threads);
  * or out of memory), nothing written. */
 int rt_compact_deform(tt_context *ctx, const tt_rtc *c, const float *tri, float *tri_box,
                       uint32_t **lev_rec, uint32_t *lev_cap, int threads, double *cost);
+
+/* After a pure deformation of accel a (an R-tree in the compact layout)
+ * whose rt_compact_deform estimate is `cost`: the motion envelope
+ * rebuild's bookkeeping (rtree_dyn_envelope.c); when the estimate has
+ * grown, the boxes of the next frames are gathered and the tree is built
+ * again from their union (kept only where it is cheaper). */
+void rt_env_after_deform(tt_accel *a, double cost, int threads);
 void rt_dyn_boxes_from_lanes(rt_dyn *d, const rtc_tree *t);
 
 /* The whole update: the ids stamped after `since` (tt_accel_update). */
