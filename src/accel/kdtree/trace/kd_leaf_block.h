@@ -28,104 +28,33 @@
 #include "accel/kdtree/kd_lines.h"
 #include "geometry/tri_block.h"
 
-/* The edge functions of a block's eight triangles for one ray, the part
- * kd_block8 and kd_block8_any share: the vertices relative to the origin in
- * the shear's axis order, sheared (U, V, W as tt_intersect_triangle forms
- * them, in the same order), det = U + V + W, the lanes with a zero edge
- * function (redo: the scalar test re-tests those) and the lanes whose edge
- * functions have both signs (out: no hit). az, bz, cz stay for the depth. */
-typedef struct kd_edges8 {
-    __m256 U, V, W, det, az, bz, cz, out;
-    unsigned redo;
-} kd_edges8;
+/* The ray's broadcasts for the any-hit tests below, made once a ray instead
+ * of once a block: the origin in the shear's axis order (kx, ky, kz) and
+ * the shear constants. */
+typedef struct kd_bray {
+    __m256 ox, oy, oz, sx, sy, sz, tmin, tmax;
+} kd_bray;
 
-TT_TRI_KERNEL void kd_block8_edges(const tt_tri_block *b, int kx, int ky, int kz, __m256 ox,
-                                   __m256 oy, __m256 oz, __m256 sx, __m256 sy, kd_edges8 *e)
+TT_TRI_KERNEL void kd_bray_init(kd_bray *q, const tt_wray *r)
 {
-    const __m256 ax = _mm256_sub_ps(_mm256_load_ps(b->v[kx]), ox),
-                 ay = _mm256_sub_ps(_mm256_load_ps(b->v[ky]), oy),
-                 az = _mm256_sub_ps(_mm256_load_ps(b->v[kz]), oz);
-    const __m256 bx = _mm256_sub_ps(_mm256_load_ps(b->v[3 + kx]), ox),
-                 by = _mm256_sub_ps(_mm256_load_ps(b->v[3 + ky]), oy),
-                 bz = _mm256_sub_ps(_mm256_load_ps(b->v[3 + kz]), oz);
-    const __m256 cx = _mm256_sub_ps(_mm256_load_ps(b->v[6 + kx]), ox),
-                 cy = _mm256_sub_ps(_mm256_load_ps(b->v[6 + ky]), oy),
-                 cz = _mm256_sub_ps(_mm256_load_ps(b->v[6 + kz]), oz);
-    const __m256 Ax = _mm256_sub_ps(ax, _mm256_mul_ps(sx, az)),
-                 Ay = _mm256_sub_ps(ay, _mm256_mul_ps(sy, az));
-    const __m256 Bx = _mm256_sub_ps(bx, _mm256_mul_ps(sx, bz)),
-                 By = _mm256_sub_ps(by, _mm256_mul_ps(sy, bz));
-    const __m256 Cx = _mm256_sub_ps(cx, _mm256_mul_ps(sx, cz)),
-                 Cy = _mm256_sub_ps(cy, _mm256_mul_ps(sy, cz));
-    const __m256 U = _mm256_sub_ps(_mm256_mul_ps(Cx, By), _mm256_mul_ps(Cy, Bx));
-    const __m256 V = _mm256_sub_ps(_mm256_mul_ps(Ax, Cy), _mm256_mul_ps(Ay, Cx));
-    const __m256 W = _mm256_sub_ps(_mm256_mul_ps(Bx, Ay), _mm256_mul_ps(By, Ax));
-    const __m256 zero = _mm256_setzero_ps();
-    const __m256 anyzero =
-        _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(U, zero, _CMP_EQ_OQ), _mm256_cmp_ps(V, zero, _CMP_EQ_OQ)),
-                     _mm256_cmp_ps(W, zero, _CMP_EQ_OQ));
-    const __m256 anyneg =
-        _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(U, zero, _CMP_LT_OQ), _mm256_cmp_ps(V, zero, _CMP_LT_OQ)),
-                     _mm256_cmp_ps(W, zero, _CMP_LT_OQ));
-    const __m256 anypos =
-        _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(U, zero, _CMP_GT_OQ), _mm256_cmp_ps(V, zero, _CMP_GT_OQ)),
-                     _mm256_cmp_ps(W, zero, _CMP_GT_OQ));
-    e->U = U;
-    e->V = V;
-    e->W = W;
-    e->det = _mm256_add_ps(_mm256_add_ps(U, V), W);
-    e->az = az;
-    e->bz = bz;
-    e->cz = cz;
-    e->out = _mm256_and_ps(anyneg, anypos);
-    e->redo = (unsigned)_mm256_movemask_ps(anyzero);
+    q->ox = _mm256_set1_ps(r->org[r->kx]);
+    q->oy = _mm256_set1_ps(r->org[r->ky]);
+    q->oz = _mm256_set1_ps(r->org[r->kz]);
+    q->sx = _mm256_set1_ps(r->sx);
+    q->sy = _mm256_set1_ps(r->sy);
+    q->sz = _mm256_set1_ps(r->sz);
+    q->tmin = _mm256_set1_ps(r->tmin);
+    q->tmax = _mm256_set1_ps(r->tmax);
 }
 
-/* Lanes of one block: returns the valid-hit mask and leaves t, u, v per
- * lane in the arrays. */
-TT_TRI_KERNEL unsigned kd_block8(const tt_kd_view *T, const tt_tri_block *b, const tt_wray *r,
-                                 float tmax, float *t_out, float *u_out, float *v_out)
-{
-    const int kx = r->kx, ky = r->ky, kz = r->kz;
-    const __m256 sz = _mm256_set1_ps(r->sz);
-    kd_edges8 e;
-    kd_block8_edges(b, kx, ky, kz, _mm256_set1_ps(r->org[kx]), _mm256_set1_ps(r->org[ky]),
-                    _mm256_set1_ps(r->org[kz]), _mm256_set1_ps(r->sx), _mm256_set1_ps(r->sy), &e);
-    const __m256 U = e.U, V = e.V, W = e.W, det = e.det, az = e.az, bz = e.bz, cz = e.cz;
-    const __m256 zero = _mm256_setzero_ps();
-    /* Most blocks a ray meets hold no lane inside all three edges (every
-     * block of an unoccluded shadow ray): stop before the depth and the
-     * division. A lane can only hit where its edge functions agree in sign
-     * and det is a nonzero number (NaN lanes: padding, zero area), or where
-     * one is zero (the scalar re-test below), so skipping the rest changes
-     * no answer. */
-    const unsigned redo = e.redo;
-    const __m256 maybe = _mm256_andnot_ps(e.out, _mm256_cmp_ps(det, zero, _CMP_NEQ_OQ));
-    if (!(_mm256_movemask_ps(maybe) | redo)) return 0;
-    const __m256 T3 = _mm256_add_ps(
-        _mm256_add_ps(_mm256_mul_ps(U, _mm256_mul_ps(sz, az)), _mm256_mul_ps(V, _mm256_mul_ps(sz, bz))),
-        _mm256_mul_ps(W, _mm256_mul_ps(sz, cz)));
-    const __m256 inv_det = _mm256_div_ps(_mm256_set1_ps(1.0f), det);
-    const __m256 t = _mm256_mul_ps(T3, inv_det);
-    __m256 ok = _mm256_andnot_ps(e.out, _mm256_cmp_ps(det, zero, _CMP_NEQ_UQ));
-    ok = _mm256_and_ps(ok, _mm256_cmp_ps(t, _mm256_set1_ps(r->tmin), _CMP_GE_OQ));
-    ok = _mm256_and_ps(ok, _mm256_cmp_ps(t, _mm256_set1_ps(tmax), _CMP_LT_OQ));
-    /* NaN lanes compare unequal to zero: never re-tested. */
-    unsigned hits = (unsigned)_mm256_movemask_ps(ok) & ~redo;
-    if (hits) {
-        _mm256_storeu_ps(t_out, t);
-        _mm256_storeu_ps(u_out, _mm256_mul_ps(V, inv_det));
-        _mm256_storeu_ps(v_out, _mm256_mul_ps(W, inv_det));
-    }
-    /* Lanes the scalar test recomputes in double precision: the scalar test. */
-    for (unsigned m = redo; m; m &= m - 1u) {
-        const unsigned i = (unsigned)__builtin_ctz(m);
-        const float *p = T->tri + 9 * (size_t)b->prim[i];
-        if (tt_intersect_triangle(r, p, p + 3, p + 6, tmax, &t_out[i], &u_out[i], &v_out[i]))
-            hits |= 1u << i;
-    }
-    return hits;
-}
+/* The 8-lane blocks (kd_blocks.h): kd_edges8, kd_block8_edges, kd_block8
+ * (closest hit) and kd_block8_any (occlusion). */
+#define KDW 8
+#define KDW_BLOCK tt_tri_block
+#define KDW_V __m256
+#define KDW_OP(op) _mm256_##op
+#define KDW_RAY(x) (x)
+#include "accel/kdtree/trace/kd_leaf_block_w.h"
 
 TT_TRI_KERNEL int kd_leaf_block(const tt_kd_view *T, tt_kd_node leaf, const tt_wray *r, int any,
                                 tt_kd_best *best)
@@ -148,59 +77,6 @@ TT_TRI_KERNEL int kd_leaf_block(const tt_kd_view *T, tt_kd_node leaf, const tt_w
     return 0;
 }
 
-/* The ray's broadcasts for the any-hit test below, made once a ray instead
- * of once a block: the origin in the shear's axis order (kx, ky, kz) and
- * the shear constants. */
-typedef struct kd_bray {
-    __m256 ox, oy, oz, sx, sy, sz, tmin, tmax;
-} kd_bray;
-
-TT_TRI_KERNEL void kd_bray_init(kd_bray *q, const tt_wray *r)
-{
-    q->ox = _mm256_set1_ps(r->org[r->kx]);
-    q->oy = _mm256_set1_ps(r->org[r->ky]);
-    q->oz = _mm256_set1_ps(r->org[r->kz]);
-    q->sx = _mm256_set1_ps(r->sx);
-    q->sy = _mm256_set1_ps(r->sy);
-    q->sz = _mm256_set1_ps(r->sz);
-    q->tmin = _mm256_set1_ps(r->tmin);
-    q->tmax = _mm256_set1_ps(r->tmax);
-}
-
-/* kd_block8 for occlusion: 1 when some lane holds a hit on [tmin, tmax).
- * The same operations in the same order as kd_block8 (the same lanes pass),
- * less what only the closest hit needs (u, v, the stores). An occlusion
- * ray's bound stays r->tmax until its first hit, which ends the walk, so
- * kd_block8's tmax argument is always r->tmax here. */
-TT_TRI_KERNEL int kd_block8_any(const tt_kd_view *T, const tt_tri_block *b, const tt_wray *r,
-                                const kd_bray *q)
-{
-    kd_edges8 e;
-    kd_block8_edges(b, r->kx, r->ky, r->kz, q->ox, q->oy, q->oz, q->sx, q->sy, &e);
-    const __m256 U = e.U, V = e.V, W = e.W, det = e.det, az = e.az, bz = e.bz, cz = e.cz;
-    const unsigned redo = e.redo;
-    const __m256 maybe = _mm256_andnot_ps(e.out, _mm256_cmp_ps(det, _mm256_setzero_ps(), _CMP_NEQ_OQ));
-    const unsigned cand = (unsigned)_mm256_movemask_ps(maybe) & ~redo;
-    if (!(cand | redo)) return 0;
-    if (cand) {
-        const __m256 T3 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(U, _mm256_mul_ps(q->sz, az)),
-                                                      _mm256_mul_ps(V, _mm256_mul_ps(q->sz, bz))),
-                                        _mm256_mul_ps(W, _mm256_mul_ps(q->sz, cz)));
-        const __m256 inv_det = _mm256_div_ps(_mm256_set1_ps(1.0f), det);
-        const __m256 t = _mm256_mul_ps(T3, inv_det);
-        const __m256 ok = _mm256_and_ps(_mm256_cmp_ps(t, q->tmin, _CMP_GE_OQ),
-                                        _mm256_cmp_ps(t, q->tmax, _CMP_LT_OQ));
-        if ((unsigned)_mm256_movemask_ps(ok) & cand) return 1;
-    }
-    for (unsigned m = redo; m; m &= m - 1u) {
-        const unsigned i = (unsigned)__builtin_ctz(m);
-        const float *p = T->tri + 9 * (size_t)b->prim[i];
-        float t, u, v;
-        if (tt_intersect_triangle(r, p, p + 3, p + 6, r->tmax, &t, &u, &v)) return 1;
-    }
-    return 0;
-}
-
 /* The any-hit leaf: blocks [first, first + count). */
 TT_TRI_KERNEL int kd_leaf_block_any(const tt_kd_view *T, uint32_t first, uint32_t count,
                                     const tt_wray *r, const kd_bray *q)
@@ -212,86 +88,14 @@ TT_TRI_KERNEL int kd_leaf_block_any(const tt_kd_view *T, uint32_t first, uint32_
 }
 
 /* The 4-lane blocks of small leaves (tt_kd_block4, kd_lines.h), for the
- * line walks: kd_block8_edges, kd_block8 and kd_block8_any in 128-bit
- * vectors, the same operations in the same order lane by lane, so the same
- * lanes pass with the same t, u, v. */
-typedef struct kd_edges4 {
-    __m128 U, V, W, det, az, bz, cz, out;
-    unsigned redo;
-} kd_edges4;
-
-TT_TRI_KERNEL void kd_block4_edges(const tt_kd_block4 *b, int kx, int ky, int kz, __m128 ox,
-                                   __m128 oy, __m128 oz, __m128 sx, __m128 sy, kd_edges4 *e)
-{
-    const __m128 ax = _mm_sub_ps(_mm_load_ps(b->v[kx]), ox),
-                 ay = _mm_sub_ps(_mm_load_ps(b->v[ky]), oy),
-                 az = _mm_sub_ps(_mm_load_ps(b->v[kz]), oz);
-    const __m128 bx = _mm_sub_ps(_mm_load_ps(b->v[3 + kx]), ox),
-                 by = _mm_sub_ps(_mm_load_ps(b->v[3 + ky]), oy),
-                 bz = _mm_sub_ps(_mm_load_ps(b->v[3 + kz]), oz);
-    const __m128 cx = _mm_sub_ps(_mm_load_ps(b->v[6 + kx]), ox),
-                 cy = _mm_sub_ps(_mm_load_ps(b->v[6 + ky]), oy),
-                 cz = _mm_sub_ps(_mm_load_ps(b->v[6 + kz]), oz);
-    const __m128 Ax = _mm_sub_ps(ax, _mm_mul_ps(sx, az)), Ay = _mm_sub_ps(ay, _mm_mul_ps(sy, az));
-    const __m128 Bx = _mm_sub_ps(bx, _mm_mul_ps(sx, bz)), By = _mm_sub_ps(by, _mm_mul_ps(sy, bz));
-    const __m128 Cx = _mm_sub_ps(cx, _mm_mul_ps(sx, cz)), Cy = _mm_sub_ps(cy, _mm_mul_ps(sy, cz));
-    const __m128 U = _mm_sub_ps(_mm_mul_ps(Cx, By), _mm_mul_ps(Cy, Bx));
-    const __m128 V = _mm_sub_ps(_mm_mul_ps(Ax, Cy), _mm_mul_ps(Ay, Cx));
-    const __m128 W = _mm_sub_ps(_mm_mul_ps(Bx, Ay), _mm_mul_ps(By, Ax));
-    const __m128 zero = _mm_setzero_ps();
-    const __m128 anyzero = _mm_or_ps(_mm_or_ps(_mm_cmp_ps(U, zero, _CMP_EQ_OQ), _mm_cmp_ps(V, zero, _CMP_EQ_OQ)),
-                                     _mm_cmp_ps(W, zero, _CMP_EQ_OQ));
-    const __m128 anyneg = _mm_or_ps(_mm_or_ps(_mm_cmp_ps(U, zero, _CMP_LT_OQ), _mm_cmp_ps(V, zero, _CMP_LT_OQ)),
-                                    _mm_cmp_ps(W, zero, _CMP_LT_OQ));
-    const __m128 anypos = _mm_or_ps(_mm_or_ps(_mm_cmp_ps(U, zero, _CMP_GT_OQ), _mm_cmp_ps(V, zero, _CMP_GT_OQ)),
-                                    _mm_cmp_ps(W, zero, _CMP_GT_OQ));
-    e->U = U;
-    e->V = V;
-    e->W = W;
-    e->det = _mm_add_ps(_mm_add_ps(U, V), W);
-    e->az = az;
-    e->bz = bz;
-    e->cz = cz;
-    e->out = _mm_and_ps(anyneg, anypos);
-    e->redo = (unsigned)_mm_movemask_ps(anyzero);
-}
-
-/* kd_block8 over a 4-lane block. */
-TT_TRI_KERNEL unsigned kd_block4(const tt_kd_view *T, const tt_kd_block4 *b, const tt_wray *r,
-                                 float tmax, float *t_out, float *u_out, float *v_out)
-{
-    const int kx = r->kx, ky = r->ky, kz = r->kz;
-    const __m128 sz = _mm_set1_ps(r->sz);
-    kd_edges4 e;
-    kd_block4_edges(b, kx, ky, kz, _mm_set1_ps(r->org[kx]), _mm_set1_ps(r->org[ky]),
-                    _mm_set1_ps(r->org[kz]), _mm_set1_ps(r->sx), _mm_set1_ps(r->sy), &e);
-    const __m128 U = e.U, V = e.V, W = e.W, det = e.det, az = e.az, bz = e.bz, cz = e.cz;
-    const __m128 zero = _mm_setzero_ps();
-    const unsigned redo = e.redo;
-    const __m128 maybe = _mm_andnot_ps(e.out, _mm_cmp_ps(det, zero, _CMP_NEQ_OQ));
-    if (!(_mm_movemask_ps(maybe) | redo)) return 0;
-    const __m128 T3 = _mm_add_ps(
-        _mm_add_ps(_mm_mul_ps(U, _mm_mul_ps(sz, az)), _mm_mul_ps(V, _mm_mul_ps(sz, bz))),
-        _mm_mul_ps(W, _mm_mul_ps(sz, cz)));
-    const __m128 inv_det = _mm_div_ps(_mm_set1_ps(1.0f), det);
-    const __m128 t = _mm_mul_ps(T3, inv_det);
-    __m128 ok = _mm_andnot_ps(e.out, _mm_cmp_ps(det, zero, _CMP_NEQ_UQ));
-    ok = _mm_and_ps(ok, _mm_cmp_ps(t, _mm_set1_ps(r->tmin), _CMP_GE_OQ));
-    ok = _mm_and_ps(ok, _mm_cmp_ps(t, _mm_set1_ps(tmax), _CMP_LT_OQ));
-    unsigned hits = (unsigned)_mm_movemask_ps(ok) & ~redo;
-    if (hits) {
-        _mm_storeu_ps(t_out, t);
-        _mm_storeu_ps(u_out, _mm_mul_ps(V, inv_det));
-        _mm_storeu_ps(v_out, _mm_mul_ps(W, inv_det));
-    }
-    for (unsigned m = redo; m; m &= m - 1u) {
-        const unsigned i = (unsigned)__builtin_ctz(m);
-        const float *p = T->tri + 9 * (size_t)b->prim[i];
-        if (tt_intersect_triangle(r, p, p + 3, p + 6, tmax, &t_out[i], &u_out[i], &v_out[i]))
-            hits |= 1u << i;
-    }
-    return hits;
-}
+ * line walks: kd_edges4, kd_block4_edges, kd_block4 and kd_block4_any, the
+ * same text in 128-bit vectors. */
+#define KDW 4
+#define KDW_BLOCK tt_kd_block4
+#define KDW_V __m128
+#define KDW_OP(op) _mm_##op
+#define KDW_RAY(x) _mm256_castps256_ps128(x)
+#include "accel/kdtree/trace/kd_leaf_block_w.h"
 
 /* kd_leaf_block over a small leaf's 4-lane block. */
 TT_TRI_KERNEL int kd_leaf_block4(const tt_kd_view *T, const tt_kd_block4 *b, const tt_wray *r,
@@ -307,39 +111,6 @@ TT_TRI_KERNEL int kd_leaf_block4(const tt_kd_view *T, const tt_kd_block4 *b, con
             best->prim = b->prim[i];
             if (any) return 1;
         }
-    }
-    return 0;
-}
-
-/* kd_block8_any over a 4-lane block. */
-TT_TRI_KERNEL int kd_block4_any(const tt_kd_view *T, const tt_kd_block4 *b, const tt_wray *r,
-                                const kd_bray *q)
-{
-    kd_edges4 e;
-    kd_block4_edges(b, r->kx, r->ky, r->kz, _mm256_castps256_ps128(q->ox),
-                    _mm256_castps256_ps128(q->oy), _mm256_castps256_ps128(q->oz),
-                    _mm256_castps256_ps128(q->sx), _mm256_castps256_ps128(q->sy), &e);
-    const __m128 U = e.U, V = e.V, W = e.W, det = e.det, az = e.az, bz = e.bz, cz = e.cz;
-    const unsigned redo = e.redo;
-    const __m128 maybe = _mm_andnot_ps(e.out, _mm_cmp_ps(det, _mm_setzero_ps(), _CMP_NEQ_OQ));
-    const unsigned cand = (unsigned)_mm_movemask_ps(maybe) & ~redo;
-    if (!(cand | redo)) return 0;
-    if (cand) {
-        const __m128 sz = _mm256_castps256_ps128(q->sz);
-        const __m128 T3 = _mm_add_ps(
-            _mm_add_ps(_mm_mul_ps(U, _mm_mul_ps(sz, az)), _mm_mul_ps(V, _mm_mul_ps(sz, bz))),
-            _mm_mul_ps(W, _mm_mul_ps(sz, cz)));
-        const __m128 inv_det = _mm_div_ps(_mm_set1_ps(1.0f), det);
-        const __m128 t = _mm_mul_ps(T3, inv_det);
-        const __m128 ok = _mm_and_ps(_mm_cmp_ps(t, _mm256_castps256_ps128(q->tmin), _CMP_GE_OQ),
-                                     _mm_cmp_ps(t, _mm256_castps256_ps128(q->tmax), _CMP_LT_OQ));
-        if ((unsigned)_mm_movemask_ps(ok) & cand) return 1;
-    }
-    for (unsigned m = redo; m; m &= m - 1u) {
-        const unsigned i = (unsigned)__builtin_ctz(m);
-        const float *p = T->tri + 9 * (size_t)b->prim[i];
-        float t, u, v;
-        if (tt_intersect_triangle(r, p, p + 3, p + 6, r->tmax, &t, &u, &v)) return 1;
     }
     return 0;
 }
