@@ -392,19 +392,6 @@ static int rtree_updates_in_place(const tt_accel *a)
     return t->layout == TT_RTREE_LAYOUT_COMPACT && !t->compact.split;
 }
 
-/* A pure deformation since `since` (no triangle added or removed, every
- * triangle live, a quarter or more moved): the deformed count, else 0. */
-static size_t pure_deformation(const tt_scene *scene, uint64_t since)
-{
-    const size_t T = scene->triangle_count;
-    if (!scene->flags || !scene->stamp || scene->structural > since ||
-        tt_scene_live_triangle_count(scene) != T)
-        return 0;
-    size_t moved = 0;
-    for (size_t id = 0; id < T; id++) moved += scene->stamp[id] > since;
-    return moved * 4 >= T ? moved : 0;
-}
-
 static tt_status rtree_update(tt_accel *a, uint64_t since)
 {
     rt_tree *t = a->impl;
@@ -415,8 +402,8 @@ static tt_status rtree_update(tt_accel *a, uint64_t since)
          * pointer tree and the slack layout wait for the first edit (the
          * first update made them, 89 ms of a bunny's 100-frame deformation
          * run of 256 ms) */
-        const size_t moved = pure_deformation(a->scene, since);
-        const int threads = moved >= ((size_t)1 << 17) ? tt_context_team(a->ctx) : 1;
+        const size_t moved = rt_dyn_pure_deformation(a->scene, since, a->scene->triangle_count);
+        const int threads = rt_dyn_threads(a->ctx, moved);
         double cost = 0.0;
         if (moved && rt_compact_deform(a->ctx, &t->compact.c, a->scene->tri, NULL, &t->lev_rec,
                                        &t->lev_cap, threads, &cost)) {
@@ -442,9 +429,7 @@ static tt_status rtree_update(tt_accel *a, uint64_t since)
         tt_free(a->ctx, t->dyn);
         t->dyn = NULL;
     } else if (t->dyn->last_deform) {
-        rt_env_after_deform(a, t->dyn->last_cost, (size_t)t->dyn->last_refit >= ((size_t)1 << 17)
-                                                   ? tt_context_team(a->ctx)
-                                                   : 1);
+        rt_env_after_deform(a, t->dyn->last_cost, rt_dyn_threads(a->ctx, t->dyn->last_refit));
     } else { /* an edit: the envelope starts again */
         tt_free(a->ctx, t->env);
         t->env = NULL;

@@ -201,6 +201,15 @@ int rt_compact_deform(tt_context *ctx, const tt_rtc *c, const float *tri, float 
 void rt_env_after_deform(tt_accel *a, double cost, int threads);
 void rt_dyn_boxes_from_lanes(rt_dyn *d, const rtc_tree *t);
 
+/* Threads for an update that changes `changed` triangles: the context's
+ * team from 2^17 on, else one (rtree_dyn_update.c says why). */
+int rt_dyn_threads(tt_context *ctx, size_t changed);
+
+/* A pure deformation of a tree holding `triangles` triangles since
+ * `since`: no triangle added or removed (the tree holds every live one) and
+ * a quarter or more of them moved. The moved count, else 0. */
+size_t rt_dyn_pure_deformation(const tt_scene *scene, uint64_t since, size_t triangles);
+
 /* The whole update: the ids stamped after `since` (tt_accel_update). */
 tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene *scene,
                         uint64_t since);

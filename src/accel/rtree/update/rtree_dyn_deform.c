@@ -92,12 +92,6 @@ static inline void deform_leaf(float *tri_box, tt_tri_block *blk, const float *t
 #endif
 }
 
-static inline float half_area(const float b[6])
-{
-    const float x = b[3] - b[0], y = b[4] - b[1], z = b[5] - b[2];
-    return x * y + y * z + z * x;
-}
-
 /* Level-1 record r: its leaves refit, their boxes into its rows. */
 static void deform_record(float *tri_box, const tt_rtc *c, const float *tri, uint32_t r)
 {
@@ -141,7 +135,7 @@ static double refit_record(const tt_rtc *c, uint32_t r)
             eb[k] = lo;
             eb[k + 3] = hi;
         }
-        cost += (double)half_area(eb);
+        cost += (double)rt_box_area(eb);
     }
     return cost;
 }
@@ -185,7 +179,7 @@ int rt_compact_deform(tt_context *ctx, const tt_rtc *c, const float *tri, float 
             rb[k] = rt_min(rb[k], root[k * c->S + i]);
             rb[k + 3] = rt_max(rb[k + 3], root[(k + 3) * c->S + i]);
         }
-    const double ra = (double)half_area(rb);
+    const double ra = (double)rt_box_area(rb);
     *cost = ra > 0.0 ? sum / ra : 0.0;
     return 1;
 }

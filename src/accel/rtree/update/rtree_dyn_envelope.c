@@ -33,14 +33,10 @@
 static void env_gather(float *env, const float *tri, size_t T, int first)
 {
     for (size_t i = 0; i < T; i++) {
-        const float *v = tri + 9 * i;
-        float *e = env + 6 * i;
-        for (int k = 0; k < 3; k++) {
-            const float lo = rt_min(rt_min(v[k], v[3 + k]), v[6 + k]);
-            const float hi = rt_max(rt_max(v[k], v[3 + k]), v[6 + k]);
-            e[k] = first ? lo : rt_min(e[k], lo);
-            e[k + 3] = first ? hi : rt_max(e[k + 3], hi);
-        }
+        float b[6];
+        rt_box_of_triangle(tri + 9 * i, b);
+        if (first) memcpy(env + 6 * i, b, sizeof b);
+        else rt_box_grow(env + 6 * i, b);
     }
 }
 
@@ -55,10 +51,10 @@ static double tree_cost(const tt_rtc *c)
         if (!lv) continue; /* free */
         const uint32_t *ref = tt_rtc_child(c, rec);
         for (uint32_t i = 0; i < tt_rtc_count(c, rec); i++) {
-            float e[3];
-            for (uint32_t k = 0; k < 3; k++) e[k] = rec[(k + 3) * c->S + i] - rec[k * c->S + i];
+            float b[6];
+            for (uint32_t k = 0; k < 6; k++) b[k] = rec[k * c->S + i];
             const double w = lv == 1 ? (double)tt_rtc_leaf_count(ref[i]) + 1.0 : 1.0;
-            sum += w * (double)(e[0] * e[1] + e[1] * e[2] + e[2] * e[0]);
+            sum += w * (double)rt_box_area(b);
         }
     }
     return sum;

@@ -47,10 +47,19 @@ static int jumped(const float old[6], const float now[6])
 /* Threads only for big frames: on the shared 2-core box a 69k-triangle
  * refit ran 2-3x slower in wall time on 2 threads than on 1 (fork/join
  * under load); 2^17 changed triangles keep the threads busy enough. */
-static int threads_for(tt_context *ctx, size_t changed)
+int rt_dyn_threads(tt_context *ctx, size_t changed)
 {
     if (changed < ((size_t)1 << 17)) return 1;
     return tt_context_team(ctx);
+}
+
+size_t rt_dyn_pure_deformation(const tt_scene *scene, uint64_t since, size_t triangles)
+{
+    const size_t T = scene->triangle_count, live = tt_scene_live_triangle_count(scene);
+    if (!scene->flags || !scene->stamp || scene->structural > since || triangles != live) return 0;
+    size_t moved = 0;
+    for (size_t id = 0; id < T; id++) moved += scene->stamp[id] > since;
+    return moved > 0 && moved * 4 >= live ? moved : 0;
 }
 
 /* Whether any of the 16 stamps at s is above since: since - stamp has
@@ -113,14 +122,10 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
      * them moved) needs only their count, not the list (the list was a
      * sixth of a conference deformation's instructions) */
     const size_t live = tt_scene_live_triangle_count(scene);
-    if (!sweep && flags && scene->structural <= since && d->b.triangles == live) {
-        for (size_t id = 0; id < T; id++) changed += stamp[id] > since;
-        moved = changed;
-        if (moved * 4 >= live && moved > 0 && rt_dyn_deform(d, t, scene, threads_for(ctx, changed))) {
-            deformed(d, moved, t0);
-            return TT_OK;
-        }
-        changed = moved = 0; /* the general path: the list */
+    const size_t pure = sweep ? 0 : rt_dyn_pure_deformation(scene, since, d->b.triangles);
+    if (pure && rt_dyn_deform(d, t, scene, rt_dyn_threads(ctx, pure))) {
+        deformed(d, pure, t0);
+        return TT_OK;
     }
     if (!sweep && flags) { /* every frame after the first: the tight loop */
         /* sixteen stamps at a time first (stamps_above): the branch per
@@ -146,7 +151,7 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
     const int deform = moved * 4 >= live && moved > 0;
     size_t removed = 0, inserted = 0, far = 0, refit = 0;
     /* a pure deformation (only moves): one walk refits and writes it all */
-    if (deform && moved == changed && rt_dyn_deform(d, t, scene, threads_for(ctx, changed))) {
+    if (deform && moved == changed && rt_dyn_deform(d, t, scene, rt_dyn_threads(ctx, changed))) {
         deformed(d, moved, t0);
         return TT_OK;
     }
@@ -162,7 +167,7 @@ tt_status rt_dyn_update(rt_dyn *d, tt_context *ctx, rtc_tree *t, const tt_scene 
     /* 1. refits: new boxes into the leaves, marked for the climb */
     uint8_t *again = tt_calloc(ctx, changed ? changed : 1, 1); /* delete + insert */
     if (!again) st = tt_error(ctx, TT_ERR_OUT_OF_MEMORY, "rtree update: out of memory");
-    const int threads = threads_for(ctx, changed);
+    const int threads = rt_dyn_threads(ctx, changed);
     if (deform) { /* every moved id refits: its new box, on the threads */
 #pragma omp parallel for schedule(static) num_threads(threads) reduction(+ : refit)
         for (size_t i = 0; i < changed; i++) {
