@@ -908,9 +908,10 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_packet_ra
         const uint32_t o = g * PK_L;
         const pk_v x = PK_LOAD(d[0] + o), y = PK_LOAD(d[1] + o), z = PK_LOAD(d[2] + o);
         const pk_v dv[3] = {x, y, z};
-        pk_v pad = zero;
+        pk_v pad = zero, rv[3];
         for (uint32_t k = 0; k < 3; k++) {
             const pk_v r = PK_DIV(one, dv[k]), ov = PK_LOAD(orow[k] + o);
+            rv[k] = r;
             PK_STORE(rrow[k] + o, r);
             /* |org rcp| where finite (a zero direction component: that
              * axis does not cull, as in the FMA kernels) */
@@ -948,7 +949,8 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_packet_ra
         const pk_m neg = PK_CMP_LT(dkz, zero);
         PK_STORE(P->sx + o, PK_DIV(PK_BLEND(neg, dkx, dky), dkz));
         PK_STORE(P->sy + o, PK_DIV(PK_BLEND(neg, dky, dkx), dkz));
-        PK_STORE(P->sz + o, PK_DIV(one, dkz));
+        /* 1 / d[kz]: that axis's reciprocal, the same division */
+        PK_STORE(P->sz + o, PK_BLEND(m0, PK_BLEND(m1, rv[2], rv[1]), rv[0]));
         const uint32_t left = n - o;
         const uint32_t valid = left >= PK_L ? (1u << PK_L) - 1u : (1u << left) - 1u;
         P->valid[g] = valid;
@@ -1070,6 +1072,22 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_single))(const tt_rtc *t, const tt_pa
     else hits[i] = h;
 }
 
+/* Ray i of R to its octant's rows (by sign bit, -0 negative), or ray by
+ * ray when a component is huge (see tt_rtc_packet). */
+TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_octant_one))(const tt_rtc *t, const tt_packet_rays *R,
+                                                        uint32_t i, int any, tt_hit *hits,
+                                                        uint8_t *occ, tt_packet_stats *stats,
+                                                        uint32_t (*idx)[PK_N], uint32_t *cnt)
+{
+    const float dx = R->dir[0][i], dy = R->dir[1][i], dz = R->dir[2][i];
+    if ((fabsf(dx) >= 0x1p126f) | (fabsf(dy) >= 0x1p126f) | (fabsf(dz) >= 0x1p126f)) {
+        TT_VARIANT(RTC_FN(rtc_pk_single))(t, R, i, any, hits, occ, stats);
+        return;
+    }
+    const uint32_t o = pk_sign(dx) | pk_sign(dy) << 1 | pk_sign(dz) << 2;
+    idx[o][cnt[o]++] = i;
+}
+
 /* The entry point: the rows of R (R->n <= TT_PACKET_MAX) split by octant,
  * each octant's rays a packet (or ray by ray when few); closest hits into
  * hits (any = 0) or occlusion bytes into occ (any = 1), by row.
@@ -1101,21 +1119,20 @@ void TT_VARIANT(RTC_FN(tt_rtc_packet))(const tt_rtc *t, const tt_packet_rays *R,
                                   PK_MOR(PK_CMP_GE(PK_ABS(dy), huge),
                                          PK_CMP_GE(PK_ABS(dz), huge)))));
         if (odd || ((nx + 1u) & PK_LANES) > 1u || ((ny + 1u) & PK_LANES) > 1u ||
-            ((nz + 1u) & PK_LANES) > 1u)
-            break;
+            ((nz + 1u) & PK_LANES) > 1u) {
+            /* this vector's rays one by one, then whole vectors again (a
+             * shadow item around a light inside the scene mixes octants:
+             * the rest of the item went one by one) */
+            for (uint32_t j = i; j < i + PK_L; j++)
+                TT_VARIANT(RTC_FN(rtc_pk_octant_one))(t, R, j, any, hits, occ, stats, idx, cnt);
+            continue;
+        }
         const uint32_t o = (nx & 1u) | (ny & 1u) << 1 | (nz & 1u) << 2;
         for (uint32_t l = 0; l < PK_L; l++) idx[o][cnt[o] + l] = i + l;
         cnt[o] += PK_L;
     }
-    for (; i < n; i++) {
-        const float dx = R->dir[0][i], dy = R->dir[1][i], dz = R->dir[2][i];
-        if ((fabsf(dx) >= 0x1p126f) | (fabsf(dy) >= 0x1p126f) | (fabsf(dz) >= 0x1p126f)) {
-            TT_VARIANT(RTC_FN(rtc_pk_single))(t, R, i, any, hits, occ, stats);
-            continue;
-        }
-        const uint32_t o = pk_sign(dx) | pk_sign(dy) << 1 | pk_sign(dz) << 2;
-        idx[o][cnt[o]++] = i;
-    }
+    for (; i < n; i++)
+        TT_VARIANT(RTC_FN(rtc_pk_octant_one))(t, R, i, any, hits, occ, stats, idx, cnt);
     _Alignas(64) pk_rays P;
     for (uint32_t o = 0; o < 8; o++) {
         const uint32_t c = cnt[o];
