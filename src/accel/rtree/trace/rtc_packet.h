@@ -908,10 +908,9 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_packet_ra
         const uint32_t o = g * PK_L;
         const pk_v x = PK_LOAD(d[0] + o), y = PK_LOAD(d[1] + o), z = PK_LOAD(d[2] + o);
         const pk_v dv[3] = {x, y, z};
-        pk_v pad = zero, rv[3];
+        pk_v pad = zero;
         for (uint32_t k = 0; k < 3; k++) {
             const pk_v r = PK_DIV(one, dv[k]), ov = PK_LOAD(orow[k] + o);
-            rv[k] = r;
             PK_STORE(rrow[k] + o, r);
             /* |org rcp| where finite (a zero direction component: that
              * axis does not cull, as in the FMA kernels) */
@@ -949,8 +948,7 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_load))(pk_rays *P, const tt_packet_ra
         const pk_m neg = PK_CMP_LT(dkz, zero);
         PK_STORE(P->sx + o, PK_DIV(PK_BLEND(neg, dkx, dky), dkz));
         PK_STORE(P->sy + o, PK_DIV(PK_BLEND(neg, dky, dkx), dkz));
-        /* 1 / d[kz]: that axis's reciprocal, the same division */
-        PK_STORE(P->sz + o, PK_BLEND(m0, PK_BLEND(m1, rv[2], rv[1]), rv[0]));
+        PK_STORE(P->sz + o, PK_DIV(one, dkz));
         const uint32_t left = n - o;
         const uint32_t valid = left >= PK_L ? (1u << PK_L) - 1u : (1u << left) - 1u;
         P->valid[g] = valid;
@@ -1108,28 +1106,30 @@ void TT_VARIANT(RTC_FN(tt_rtc_packet))(const tt_rtc *t, const tt_packet_rays *R,
      * huge (the usual case) appends its rows whole */
     const pk_v zero = PK_SET1(0.0f), huge = PK_SET1(0x1p126f);
     uint32_t i = 0;
-    for (; i + PK_L <= n; i += PK_L) {
-        const pk_v dx = PK_LOAD(R->dir[0] + i), dy = PK_LOAD(R->dir[1] + i),
-                   dz = PK_LOAD(R->dir[2] + i);
-        const uint32_t nx = PK_BITS(PK_CMP_LT(dx, zero)), ny = PK_BITS(PK_CMP_LT(dy, zero)),
-                       nz = PK_BITS(PK_CMP_LT(dz, zero));
-        const uint32_t odd =
-            PK_BITS(PK_MOR(PK_MOR(PK_CMP_EQ(dx, zero), PK_CMP_EQ(dy, zero)),
-                           PK_MOR(PK_MOR(PK_CMP_EQ(dz, zero), PK_CMP_GE(PK_ABS(dx), huge)),
-                                  PK_MOR(PK_CMP_GE(PK_ABS(dy), huge),
-                                         PK_CMP_GE(PK_ABS(dz), huge)))));
-        if (odd || ((nx + 1u) & PK_LANES) > 1u || ((ny + 1u) & PK_LANES) > 1u ||
-            ((nz + 1u) & PK_LANES) > 1u) {
-            /* this vector's rays one by one, then whole vectors again (a
-             * shadow item around a light inside the scene mixes octants:
-             * the rest of the item went one by one) */
-            for (uint32_t j = i; j < i + PK_L; j++)
-                TT_VARIANT(RTC_FN(rtc_pk_octant_one))(t, R, j, any, hits, occ, stats, idx, cnt);
-            continue;
+    for (;;) {
+        for (; i + PK_L <= n; i += PK_L) {
+            const pk_v dx = PK_LOAD(R->dir[0] + i), dy = PK_LOAD(R->dir[1] + i),
+                       dz = PK_LOAD(R->dir[2] + i);
+            const uint32_t nx = PK_BITS(PK_CMP_LT(dx, zero)), ny = PK_BITS(PK_CMP_LT(dy, zero)),
+                           nz = PK_BITS(PK_CMP_LT(dz, zero));
+            const uint32_t odd =
+                PK_BITS(PK_MOR(PK_MOR(PK_CMP_EQ(dx, zero), PK_CMP_EQ(dy, zero)),
+                               PK_MOR(PK_MOR(PK_CMP_EQ(dz, zero), PK_CMP_GE(PK_ABS(dx), huge)),
+                                      PK_MOR(PK_CMP_GE(PK_ABS(dy), huge),
+                                             PK_CMP_GE(PK_ABS(dz), huge)))));
+            if (odd || ((nx + 1u) & PK_LANES) > 1u || ((ny + 1u) & PK_LANES) > 1u ||
+                ((nz + 1u) & PK_LANES) > 1u)
+                break;
+            const uint32_t o = (nx & 1u) | (ny & 1u) << 1 | (nz & 1u) << 2;
+            for (uint32_t l = 0; l < PK_L; l++) idx[o][cnt[o] + l] = i + l;
+            cnt[o] += PK_L;
         }
-        const uint32_t o = (nx & 1u) | (ny & 1u) << 1 | (nz & 1u) << 2;
-        for (uint32_t l = 0; l < PK_L; l++) idx[o][cnt[o] + l] = i + l;
-        cnt[o] += PK_L;
+        if (i + PK_L > n) break;
+        /* a vector of mixed octants (a shadow item around a light inside
+         * the scene) goes ray by ray, then whole vectors again: the rest of
+         * the item went ray by ray */
+        for (const uint32_t e = i + PK_L; i < e; i++)
+            TT_VARIANT(RTC_FN(rtc_pk_octant_one))(t, R, i, any, hits, occ, stats, idx, cnt);
     }
     for (; i < n; i++)
         TT_VARIANT(RTC_FN(rtc_pk_octant_one))(t, R, i, any, hits, occ, stats, idx, cnt);
