@@ -509,6 +509,15 @@ TT_RT_INLINE void TT_VARIANT(RTC_FN(rtc_pk_walk))(const tt_rtc *TT_RESTRICT t, c
         float tpk[TT_RT_MAX_M];
         const int itest = P->ia && S % PK_L == 0;
         if (itest) cand &= TT_VARIANT(RTC_FN(rtc_pk_interval))(&A, rec, S, tpk);
+        if (itest && cur.level >= 2 && !(cand & (cand - 1))) {
+            /* one child left by the interval test: the active rays go to
+             * it untested (as rtc_pk_walk_occ; a ray missing it is dropped
+             * by its own tests below, the children's boxes lying inside) */
+            if (!cand) goto pop;
+            cur.node = child[__builtin_ctz(cand)];
+            cur.level--;
+            continue;
+        }
         /* Occlusion asks any hit, not the nearest: a child's rays need only
          * the overlap test, and the children go near to far by the
          * packet's interval entry (as good an order, and free), not by a
