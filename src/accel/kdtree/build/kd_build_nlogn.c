@@ -35,6 +35,7 @@ typedef struct nl_state {
     size_t clip_cap;
 } nl_state;
 
+
 /* Events of one node: the three axes' sorted lists in one block. */
 typedef struct nl_lists {
     uint64_t *block;
@@ -75,52 +76,89 @@ static uint64_t *axis_list(const nl_lists *l, int axis)
     return l->block + off;
 }
 
+/* The first event at or after index lo whose position key is above
+ * `key` (or n): the list is sorted, position first. */
+static size_t first_above(const uint64_t *ev, size_t lo, size_t n, uint32_t key)
+{
+    size_t hi = n;
+    while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        if (kd_event_poskey(ev[mid]) > key) hi = mid;
+        else lo = mid + 1;
+    }
+    return lo;
+}
+
 /* Marks every triangle of the node with its side of the split, from the
- * split axis' events alone (the rule of kd_classify, in event form), in one
- * pass: a triangle's START comes before its END in the sorted list. Counts
- * the one-sided triangles and lists the straddlers in s->ids (marked 0). */
+ * split axis' events alone (the rule of kd_classify, in event form): a
+ * triangle's START comes before its END in the sorted list. Counts the
+ * one-sided triangles and lists the straddlers in s->ids (marked 0).
+ *
+ * The list falls in three parts, found by binary search: events below the
+ * plane, in it, and above it. Below, an END or PLANAR makes its triangle
+ * LEFT and a START makes it BOTH for now; above, a START or PLANAR makes
+ * it RIGHT and an END finds a triangle still BOTH: a straddler. Those two
+ * parts need no test of the position and are written without branches
+ * (the types come in no predictable order); only the events in the plane
+ * take the general rule. */
 static uint32_t classify(nl_state *s, const uint64_t *ev, size_t n_ev, const kd_split *sp,
                          uint32_t *n_left, uint32_t *n_right)
 {
     const uint32_t pkey = kd_float_key(sp->pos);
     const uint8_t planar_side = sp->planar_left ? KD_SIDE_LEFT : KD_SIDE_RIGHT;
-    uint32_t nl = 0, nr = 0, nb = 0;
     /* In locals: a byte store may alias anything, so through s the
      * compiler reloaded both pointers after every one. */
     uint8_t *side = s->side;
     uint32_t *ids = s->ids;
     const float *tri = s->tri;
-    for (size_t i = 0; i < n_ev; i++) {
-        const uint32_t key = kd_event_poskey(ev[i]), type = kd_event_type(ev[i]), t = kd_event_tri(ev[i]);
+    _Static_assert(KD_END == 0 && KD_PLANAR == 1 && KD_START == 2, "event types");
+    _Static_assert(KD_SIDE_LEFT == 1 && KD_SIDE_RIGHT == 2 && KD_SIDE_BOTH == 3, "side bits");
+    /* [0, lo): below the plane; [lo, hi): in it; [hi, n_ev): above. */
+    const size_t lo = pkey ? first_above(ev, 0, n_ev, pkey - 1) : 0;
+    const size_t hi = first_above(ev, lo, n_ev, pkey);
+    size_t nl = 0, nr = 0, nb = 0;
+    for (size_t i = 0; i < lo; i++) {
+        const uint32_t type = kd_event_type(ev[i]);
+        /* START (2): BOTH (3); END (0) or PLANAR (1): LEFT (1). */
+        side[kd_event_tri(ev[i])] = (uint8_t)(KD_SIDE_LEFT | (type & 2u));
+        nl += (type >> 1) ^ 1u;
+    }
+    for (size_t i = lo; i < hi; i++) {
+        const uint32_t type = kd_event_type(ev[i]), t = kd_event_tri(ev[i]);
         if (type == KD_START) {
-            side[t] = key >= pkey ? KD_SIDE_RIGHT : KD_SIDE_BOTH;
-            nr += key >= pkey;
+            side[t] = KD_SIDE_RIGHT;
+            nr++;
         } else if (type == KD_END) {
-            if (key <= pkey) {
-                side[t] = KD_SIDE_LEFT;
-                nl++;
-            } else if (side[t] == KD_SIDE_BOTH) {
-                ids[nb++] = t;
-                /* reclip reads it next: the scene's triangles are far
-                 * larger than the caches. */
-                __builtin_prefetch(tri + 9 * (size_t)t);
-                __builtin_prefetch(tri + 9 * (size_t)t + 8);
-            }
+            side[t] = KD_SIDE_LEFT;
+            nl++;
         } else {
-            uint8_t here = key < pkey ? KD_SIDE_LEFT : key > pkey ? KD_SIDE_RIGHT : planar_side;
-            side[t] = here;
-            _Static_assert(KD_SIDE_LEFT == 1 && KD_SIDE_RIGHT == 2, "side bits");
-            nl += here & KD_SIDE_LEFT;
-            nr += here >> 1; /* KD_SIDE_RIGHT */
+            side[t] = planar_side;
+            nl += planar_side & KD_SIDE_LEFT;
+            nr += planar_side >> 1; /* KD_SIDE_RIGHT */
         }
+    }
+    for (size_t i = hi; i < n_ev; i++) {
+        const uint32_t type = kd_event_type(ev[i]), t = kd_event_tri(ev[i]);
+        const uint32_t was = side[t];
+        const uint32_t is_end = type == KD_END;
+        /* An END's triangle keeps its side (RIGHT, or BOTH: listed). */
+        ids[nb] = t;
+        nb += is_end & (was == KD_SIDE_BOTH);
+        side[t] = (uint8_t)(is_end ? was : KD_SIDE_RIGHT);
+        nr += is_end ^ 1u;
     }
     /* The straddlers' events are not copied to either child (their new
      * ones are merged in): side 0, so that the copy can add the side's two
-     * bits as the children's counts. */
-    for (uint32_t i = 0; i < nb; i++) side[ids[i]] = 0;
-    *n_left = nl;
-    *n_right = nr;
-    return nb;
+     * bits as the children's counts. reclip reads their triangles next:
+     * the scene's triangles are far larger than the caches. */
+    for (size_t i = 0; i < nb; i++) {
+        side[ids[i]] = 0;
+        __builtin_prefetch(tri + 9 * (size_t)ids[i]);
+        __builtin_prefetch(tri + 9 * (size_t)ids[i] + 8);
+    }
+    *n_left = (uint32_t)nl;
+    *n_right = (uint32_t)nr;
+    return (uint32_t)nb;
 }
 
 /* Sorts each of the 3 runs (2 nb apart, lengths len) of re-clipped
@@ -405,7 +443,9 @@ static void state_init(nl_state *s, const kd_builder *b)
 static int state_alloc(nl_state *s, uint32_t n)
 {
     s->side = tt_alloc_array(s->ctx, n, sizeof *s->side);
-    s->ids = tt_alloc_array(s->ctx, n, sizeof *s->ids);
+    /* One more than the triangles: classify stores a candidate past the
+     * straddlers it has listed. */
+    s->ids = tt_alloc_array(s->ctx, (size_t)n + 1, sizeof *s->ids);
     s->pool = tt_calloc(s->ctx, 2 * ((size_t)s->max_depth + 1), sizeof *s->pool);
     return s->side && s->ids && s->pool;
 }
