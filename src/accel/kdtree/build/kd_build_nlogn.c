@@ -102,7 +102,7 @@ static size_t first_above(const uint64_t *ev, size_t lo, size_t n, uint32_t key)
  * (the types come in no predictable order); only the events in the plane
  * take the general rule. */
 static uint32_t classify(nl_state *s, const uint64_t *ev, size_t n_ev, const kd_split *sp,
-                         uint32_t *n_left, uint32_t *n_right)
+                         uint32_t *n_left, uint32_t *n_right, size_t plane[2])
 {
     const uint32_t pkey = kd_float_key(sp->pos);
     const uint8_t planar_side = sp->planar_left ? KD_SIDE_LEFT : KD_SIDE_RIGHT;
@@ -116,6 +116,8 @@ static uint32_t classify(nl_state *s, const uint64_t *ev, size_t n_ev, const kd_
     /* [0, lo): below the plane; [lo, hi): in it; [hi, n_ev): above. */
     const size_t lo = pkey ? first_above(ev, 0, n_ev, pkey - 1) : 0;
     const size_t hi = first_above(ev, lo, n_ev, pkey);
+    plane[0] = lo;
+    plane[1] = hi;
     size_t nl = 0, nr = 0, nb = 0;
     for (size_t i = 0; i < lo; i++) {
         const uint32_t type = kd_event_type(ev[i]);
@@ -268,6 +270,24 @@ static void split_axis(const uint8_t *side_of, const uint64_t *ev, size_t n_ev, 
     *n_right = nr;
 }
 
+/* split_axis for the split axis of a split no triangle straddles, whose
+ * list falls in three parts (classify): below the plane [0, plane[0]),
+ * every event its triangle's on the left; in it; above it [plane[1],
+ * n_ev), every event on the right. The outer parts are copied whole. */
+static void split_plane_axis(const uint8_t *side_of, const uint64_t *ev, size_t n_ev,
+                             const size_t plane[2], uint64_t *ldst, uint64_t *rdst, size_t *n_left,
+                             size_t *n_right)
+{
+    const size_t lo = plane[0], hi = plane[1];
+    size_t ml, mr;
+    memcpy(ldst, ev, lo * sizeof *ev);
+    /* (no straddlers' runs: empty ones, at a valid address) */
+    split_axis(side_of, ev + lo, hi - lo, ev, 0, ev, 0, ldst + lo, rdst, &ml, &mr);
+    memcpy(rdst + mr, ev + hi, (n_ev - hi) * sizeof *ev);
+    *n_left = lo + ml;
+    *n_right = mr + (n_ev - hi);
+}
+
 /* Builds both children's lists in one pass over the parent's (split_axis
  * for each axis). Each child's run for an axis is sized for the worst
  * case, two events per triangle, so the split needs no counting pass.
@@ -278,8 +298,8 @@ static void split_axis(const uint8_t *side_of, const uint64_t *ev, size_t n_ev, 
  * lists are the same either way. */
 static int child_lists(nl_state *s, const nl_lists *parent, int depth, int own, uint32_t n_left,
                        uint32_t n_right, const uint64_t *lclip, const size_t llen[3],
-                       const uint64_t *rclip, const size_t rlen[3], uint32_t nb, nl_lists *left,
-                       nl_lists *right)
+                       const uint64_t *rclip, const size_t rlen[3], uint32_t nb, int axis,
+                       const size_t plane[2], nl_lists *left, nl_lists *right)
 {
     const size_t lcap = 2 * (size_t)n_left, rcap = 2 * (size_t)n_right;
     const int tasks = own && parent->n[0] + parent->n[1] + parent->n[2] >= 6 * (size_t)kd_par_cutoff;
@@ -296,17 +316,25 @@ static int child_lists(nl_state *s, const nl_lists *parent, int depth, int own, 
         const uint8_t *side_of = s->side;
         for (int k = 0; k < 3; k++) {
 #pragma omp task firstprivate(k) shared(left, right)
-            split_axis(side_of, axis_list(parent, k), parent->n[k], lclip + 2 * (size_t)nb * k, llen[k],
-                       rclip + 2 * (size_t)nb * k, rlen[k], axis_list(left, k), axis_list(right, k),
-                       &left->n[k], &right->n[k]);
+            if (k == axis && nb == 0)
+                split_plane_axis(side_of, axis_list(parent, k), parent->n[k], plane, axis_list(left, k),
+                                 axis_list(right, k), &left->n[k], &right->n[k]);
+            else
+                split_axis(side_of, axis_list(parent, k), parent->n[k], lclip + 2 * (size_t)nb * k,
+                           llen[k], rclip + 2 * (size_t)nb * k, rlen[k], axis_list(left, k),
+                           axis_list(right, k), &left->n[k], &right->n[k]);
         }
 #pragma omp taskwait
         return 1;
     }
     uint64_t *ldst = left->block, *rdst = right->block;
     for (int k = 0; k < 3; k++) {
-        split_axis(s->side, axis_list(parent, k), parent->n[k], lclip + 2 * (size_t)nb * k, llen[k],
-                   rclip + 2 * (size_t)nb * k, rlen[k], ldst, rdst, &left->n[k], &right->n[k]);
+        if (k == axis && nb == 0)
+            split_plane_axis(s->side, axis_list(parent, k), parent->n[k], plane, ldst, rdst, &left->n[k],
+                             &right->n[k]);
+        else
+            split_axis(s->side, axis_list(parent, k), parent->n[k], lclip + 2 * (size_t)nb * k, llen[k],
+                       rclip + 2 * (size_t)nb * k, rlen[k], ldst, rdst, &left->n[k], &right->n[k]);
         ldst += left->n[k];
         rdst += right->n[k];
     }
@@ -374,7 +402,8 @@ static tt_status split_node(kd_builder *b, nl_state *s, nl_lists *lists, uint32_
     const uint64_t *ev = axis_list(lists, split->axis);
     const size_t n_ev = lists->n[split->axis];
     uint32_t nl, nr;
-    const uint32_t nb = classify(s, ev, n_ev, split, &nl, &nr);
+    size_t plane[2];
+    const uint32_t nb = classify(s, ev, n_ev, split, &nl, &nr, plane);
     kd_split_cell(cell, split, lcell, rcell);
     tt_status st = TT_OK;
     if (!clip_room(s, nb)) {
@@ -388,7 +417,8 @@ static tt_status split_node(kd_builder *b, nl_state *s, nl_lists *lists, uint32_
         nl += kl;
         nr += kr;
         kd_account_split(b, n, nl, nr);
-        if (!child_lists(s, lists, depth + 1, own, nl, nr, lclip, llen, rclip, rlen, nb, left, right))
+        if (!child_lists(s, lists, depth + 1, own, nl, nr, lclip, llen, rclip, rlen, nb, split->axis,
+                         plane, left, right))
             st = kd_oom(b);
     }
     put_block(s, lists);
