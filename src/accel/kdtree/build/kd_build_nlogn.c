@@ -35,6 +35,7 @@ typedef struct nl_state {
     size_t clip_cap;
 } nl_state;
 
+
 /* Events of one node: the three axes' sorted lists in one block. */
 typedef struct nl_lists {
     uint64_t *block;
@@ -75,52 +76,91 @@ static uint64_t *axis_list(const nl_lists *l, int axis)
     return l->block + off;
 }
 
+/* The first event at or after index lo whose position key is above
+ * `key` (or n): the list is sorted, position first. */
+static size_t first_above(const uint64_t *ev, size_t lo, size_t n, uint32_t key)
+{
+    size_t hi = n;
+    while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        if (kd_event_poskey(ev[mid]) > key) hi = mid;
+        else lo = mid + 1;
+    }
+    return lo;
+}
+
 /* Marks every triangle of the node with its side of the split, from the
- * split axis' events alone (the rule of kd_classify, in event form), in one
- * pass: a triangle's START comes before its END in the sorted list. Counts
- * the one-sided triangles and lists the straddlers in s->ids (marked 0). */
+ * split axis' events alone (the rule of kd_classify, in event form): a
+ * triangle's START comes before its END in the sorted list. Counts the
+ * one-sided triangles and lists the straddlers in s->ids (marked 0).
+ *
+ * The list falls in three parts, found by binary search: events below the
+ * plane, in it, and above it. Below, an END or PLANAR makes its triangle
+ * LEFT and a START makes it BOTH for now; above, a START or PLANAR makes
+ * it RIGHT and an END finds a triangle still BOTH: a straddler. Those two
+ * parts need no test of the position and are written without branches
+ * (the types come in no predictable order); only the events in the plane
+ * take the general rule. */
 static uint32_t classify(nl_state *s, const uint64_t *ev, size_t n_ev, const kd_split *sp,
-                         uint32_t *n_left, uint32_t *n_right)
+                         uint32_t *n_left, uint32_t *n_right, size_t plane[2])
 {
     const uint32_t pkey = kd_float_key(sp->pos);
     const uint8_t planar_side = sp->planar_left ? KD_SIDE_LEFT : KD_SIDE_RIGHT;
-    uint32_t nl = 0, nr = 0, nb = 0;
     /* In locals: a byte store may alias anything, so through s the
      * compiler reloaded both pointers after every one. */
     uint8_t *side = s->side;
     uint32_t *ids = s->ids;
     const float *tri = s->tri;
-    for (size_t i = 0; i < n_ev; i++) {
-        const uint32_t key = kd_event_poskey(ev[i]), type = kd_event_type(ev[i]), t = kd_event_tri(ev[i]);
+    _Static_assert(KD_END == 0 && KD_PLANAR == 1 && KD_START == 2, "event types");
+    _Static_assert(KD_SIDE_LEFT == 1 && KD_SIDE_RIGHT == 2 && KD_SIDE_BOTH == 3, "side bits");
+    /* [0, lo): below the plane; [lo, hi): in it; [hi, n_ev): above. */
+    const size_t lo = pkey ? first_above(ev, 0, n_ev, pkey - 1) : 0;
+    const size_t hi = first_above(ev, lo, n_ev, pkey);
+    plane[0] = lo;
+    plane[1] = hi;
+    size_t nl = 0, nr = 0, nb = 0;
+    for (size_t i = 0; i < lo; i++) {
+        const uint32_t type = kd_event_type(ev[i]);
+        /* START (2): BOTH (3); END (0) or PLANAR (1): LEFT (1). */
+        side[kd_event_tri(ev[i])] = (uint8_t)(KD_SIDE_LEFT | (type & 2u));
+        nl += (type >> 1) ^ 1u;
+    }
+    for (size_t i = lo; i < hi; i++) {
+        const uint32_t type = kd_event_type(ev[i]), t = kd_event_tri(ev[i]);
         if (type == KD_START) {
-            side[t] = key >= pkey ? KD_SIDE_RIGHT : KD_SIDE_BOTH;
-            nr += key >= pkey;
+            side[t] = KD_SIDE_RIGHT;
+            nr++;
         } else if (type == KD_END) {
-            if (key <= pkey) {
-                side[t] = KD_SIDE_LEFT;
-                nl++;
-            } else if (side[t] == KD_SIDE_BOTH) {
-                ids[nb++] = t;
-                /* reclip reads it next: the scene's triangles are far
-                 * larger than the caches. */
-                __builtin_prefetch(tri + 9 * (size_t)t);
-                __builtin_prefetch(tri + 9 * (size_t)t + 8);
-            }
+            side[t] = KD_SIDE_LEFT;
+            nl++;
         } else {
-            uint8_t here = key < pkey ? KD_SIDE_LEFT : key > pkey ? KD_SIDE_RIGHT : planar_side;
-            side[t] = here;
-            _Static_assert(KD_SIDE_LEFT == 1 && KD_SIDE_RIGHT == 2, "side bits");
-            nl += here & KD_SIDE_LEFT;
-            nr += here >> 1; /* KD_SIDE_RIGHT */
+            side[t] = planar_side;
+            nl += planar_side & KD_SIDE_LEFT;
+            nr += planar_side >> 1; /* KD_SIDE_RIGHT */
         }
+    }
+    for (size_t i = hi; i < n_ev; i++) {
+        const uint32_t type = kd_event_type(ev[i]), t = kd_event_tri(ev[i]);
+        const uint32_t was = side[t];
+        const uint32_t is_end = type == KD_END;
+        /* An END's triangle keeps its side (RIGHT, or BOTH: listed). */
+        ids[nb] = t;
+        nb += is_end & (was == KD_SIDE_BOTH);
+        side[t] = (uint8_t)(is_end ? was : KD_SIDE_RIGHT);
+        nr += is_end ^ 1u;
     }
     /* The straddlers' events are not copied to either child (their new
      * ones are merged in): side 0, so that the copy can add the side's two
-     * bits as the children's counts. */
-    for (uint32_t i = 0; i < nb; i++) side[ids[i]] = 0;
-    *n_left = nl;
-    *n_right = nr;
-    return nb;
+     * bits as the children's counts. reclip reads their triangles next:
+     * the scene's triangles are far larger than the caches. */
+    for (size_t i = 0; i < nb; i++) {
+        side[ids[i]] = 0;
+        __builtin_prefetch(tri + 9 * (size_t)ids[i]);
+        __builtin_prefetch(tri + 9 * (size_t)ids[i] + 8);
+    }
+    *n_left = (uint32_t)nl;
+    *n_right = (uint32_t)nr;
+    return (uint32_t)nb;
 }
 
 /* Sorts each of the 3 runs (2 nb apart, lengths len) of re-clipped
@@ -230,6 +270,24 @@ static void split_axis(const uint8_t *side_of, const uint64_t *ev, size_t n_ev, 
     *n_right = nr;
 }
 
+/* split_axis for the split axis of a split no triangle straddles, whose
+ * list falls in three parts (classify): below the plane [0, plane[0]),
+ * every event its triangle's on the left; in it; above it [plane[1],
+ * n_ev), every event on the right. The outer parts are copied whole. */
+static void split_plane_axis(const uint8_t *side_of, const uint64_t *ev, size_t n_ev,
+                             const size_t plane[2], uint64_t *ldst, uint64_t *rdst, size_t *n_left,
+                             size_t *n_right)
+{
+    const size_t lo = plane[0], hi = plane[1];
+    size_t ml, mr;
+    memcpy(ldst, ev, lo * sizeof *ev);
+    /* (no straddlers' runs: empty ones, at a valid address) */
+    split_axis(side_of, ev + lo, hi - lo, ev, 0, ev, 0, ldst + lo, rdst, &ml, &mr);
+    memcpy(rdst + mr, ev + hi, (n_ev - hi) * sizeof *ev);
+    *n_left = lo + ml;
+    *n_right = mr + (n_ev - hi);
+}
+
 /* Builds both children's lists in one pass over the parent's (split_axis
  * for each axis). Each child's run for an axis is sized for the worst
  * case, two events per triangle, so the split needs no counting pass.
@@ -240,8 +298,8 @@ static void split_axis(const uint8_t *side_of, const uint64_t *ev, size_t n_ev, 
  * lists are the same either way. */
 static int child_lists(nl_state *s, const nl_lists *parent, int depth, int own, uint32_t n_left,
                        uint32_t n_right, const uint64_t *lclip, const size_t llen[3],
-                       const uint64_t *rclip, const size_t rlen[3], uint32_t nb, nl_lists *left,
-                       nl_lists *right)
+                       const uint64_t *rclip, const size_t rlen[3], uint32_t nb, int axis,
+                       const size_t plane[2], nl_lists *left, nl_lists *right)
 {
     const size_t lcap = 2 * (size_t)n_left, rcap = 2 * (size_t)n_right;
     const int tasks = own && parent->n[0] + parent->n[1] + parent->n[2] >= 6 * (size_t)kd_par_cutoff;
@@ -258,17 +316,25 @@ static int child_lists(nl_state *s, const nl_lists *parent, int depth, int own, 
         const uint8_t *side_of = s->side;
         for (int k = 0; k < 3; k++) {
 #pragma omp task firstprivate(k) shared(left, right)
-            split_axis(side_of, axis_list(parent, k), parent->n[k], lclip + 2 * (size_t)nb * k, llen[k],
-                       rclip + 2 * (size_t)nb * k, rlen[k], axis_list(left, k), axis_list(right, k),
-                       &left->n[k], &right->n[k]);
+            if (k == axis && nb == 0)
+                split_plane_axis(side_of, axis_list(parent, k), parent->n[k], plane, axis_list(left, k),
+                                 axis_list(right, k), &left->n[k], &right->n[k]);
+            else
+                split_axis(side_of, axis_list(parent, k), parent->n[k], lclip + 2 * (size_t)nb * k,
+                           llen[k], rclip + 2 * (size_t)nb * k, rlen[k], axis_list(left, k),
+                           axis_list(right, k), &left->n[k], &right->n[k]);
         }
 #pragma omp taskwait
         return 1;
     }
     uint64_t *ldst = left->block, *rdst = right->block;
     for (int k = 0; k < 3; k++) {
-        split_axis(s->side, axis_list(parent, k), parent->n[k], lclip + 2 * (size_t)nb * k, llen[k],
-                   rclip + 2 * (size_t)nb * k, rlen[k], ldst, rdst, &left->n[k], &right->n[k]);
+        if (k == axis && nb == 0)
+            split_plane_axis(s->side, axis_list(parent, k), parent->n[k], plane, ldst, rdst, &left->n[k],
+                             &right->n[k]);
+        else
+            split_axis(s->side, axis_list(parent, k), parent->n[k], lclip + 2 * (size_t)nb * k, llen[k],
+                       rclip + 2 * (size_t)nb * k, rlen[k], ldst, rdst, &left->n[k], &right->n[k]);
         ldst += left->n[k];
         rdst += right->n[k];
     }
@@ -336,7 +402,8 @@ static tt_status split_node(kd_builder *b, nl_state *s, nl_lists *lists, uint32_
     const uint64_t *ev = axis_list(lists, split->axis);
     const size_t n_ev = lists->n[split->axis];
     uint32_t nl, nr;
-    const uint32_t nb = classify(s, ev, n_ev, split, &nl, &nr);
+    size_t plane[2];
+    const uint32_t nb = classify(s, ev, n_ev, split, &nl, &nr, plane);
     kd_split_cell(cell, split, lcell, rcell);
     tt_status st = TT_OK;
     if (!clip_room(s, nb)) {
@@ -350,7 +417,8 @@ static tt_status split_node(kd_builder *b, nl_state *s, nl_lists *lists, uint32_
         nl += kl;
         nr += kr;
         kd_account_split(b, n, nl, nr);
-        if (!child_lists(s, lists, depth + 1, own, nl, nr, lclip, llen, rclip, rlen, nb, left, right))
+        if (!child_lists(s, lists, depth + 1, own, nl, nr, lclip, llen, rclip, rlen, nb, split->axis,
+                         plane, left, right))
             st = kd_oom(b);
     }
     put_block(s, lists);
@@ -405,7 +473,9 @@ static void state_init(nl_state *s, const kd_builder *b)
 static int state_alloc(nl_state *s, uint32_t n)
 {
     s->side = tt_alloc_array(s->ctx, n, sizeof *s->side);
-    s->ids = tt_alloc_array(s->ctx, n, sizeof *s->ids);
+    /* One more than the triangles: classify stores a candidate past the
+     * straddlers it has listed. */
+    s->ids = tt_alloc_array(s->ctx, (size_t)n + 1, sizeof *s->ids);
     s->pool = tt_calloc(s->ctx, 2 * ((size_t)s->max_depth + 1), sizeof *s->pool);
     return s->side && s->ids && s->pool;
 }
