@@ -35,7 +35,6 @@ typedef struct nl_state {
     size_t clip_cap;
 } nl_state;
 
-
 /* Events of one node: the three axes' sorted lists in one block. */
 typedef struct nl_lists {
     uint64_t *block;
